@@ -1,0 +1,46 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav command line: a table of subcommands and one try/catch.
+#include <cstdlib>
+#include <exception>
+#include <iostream>
+#include <string_view>
+
+namespace {
+
+struct Command {
+  std::string_view name;
+  std::string_view summary;
+  int (*run)(int argc, char** argv);
+};
+
+constexpr Command kCommands[] = {
+    {"", "", nullptr},
+};
+
+void PrintUsage() {
+  std::cout << "usage: tofnav <subcommand> [options]   (tofnav <subcommand> --help)\n\n";
+  for (const Command& c : kCommands) {
+    if (c.run != nullptr) std::cout << "  " << c.name << "\t" << c.summary << "\n";
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || std::string_view(argv[1]) == "--help" || std::string_view(argv[1]) == "-h") {
+    PrintUsage();
+    return argc < 2 ? EXIT_FAILURE : EXIT_SUCCESS;
+  }
+  for (const Command& c : kCommands) {
+    if (c.run == nullptr || c.name != argv[1]) continue;
+    try {
+      return c.run(argc - 1, argv + 1);
+    } catch (const std::exception& e) {
+      std::cerr << "tofnav " << c.name << ": error: " << e.what() << "\n";
+      return EXIT_FAILURE;
+    }
+  }
+  std::cerr << "tofnav: unknown subcommand '" << argv[1] << "'\n";
+  PrintUsage();
+  return EXIT_FAILURE;
+}

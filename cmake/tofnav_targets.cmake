@@ -1,0 +1,65 @@
+# SPDX-License-Identifier: BSD-3-Clause
+# The one place that gives every tofnav target its standard, warnings and sanitizers.
+
+function(tofnav_target_options target)
+  target_compile_features(${target} PUBLIC cxx_std_20)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wconversion -Wshadow
+                                           -Wnon-virtual-dtor -Wold-style-cast)
+  if(TOFNAV_WERROR)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+  if(TOFNAV_SANITIZE)
+    target_compile_options(${target} PRIVATE -fsanitize=address,undefined
+                                             -fno-sanitize-recover=all -fno-omit-frame-pointer)
+    target_compile_definitions(${target} PRIVATE EIGEN_INITIALIZE_MATRICES_BY_NAN)
+    target_link_options(${target} PUBLIC -fsanitize=address,undefined)
+  endif()
+endfunction()
+
+# tofnav_add_library(<module> SOURCES ... [DEPENDS ...] [PRIVATE_DEPENDS ...])
+# Creates tofnav_<module> with the alias tofnav::<module>; headers are included as
+# "tofnav/<module>/<file>.hpp" from src/.
+function(tofnav_add_library name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS;PRIVATE_DEPENDS" ${ARGN})
+  add_library(tofnav_${name} STATIC ${ARG_SOURCES})
+  add_library(tofnav::${name} ALIAS tofnav_${name})
+  target_include_directories(tofnav_${name} PUBLIC ${PROJECT_SOURCE_DIR}/src)
+  target_link_libraries(tofnav_${name} PUBLIC ${ARG_DEPENDS} PRIVATE ${ARG_PRIVATE_DEPENDS})
+  set_target_properties(tofnav_${name} PROPERTIES POSITION_INDEPENDENT_CODE ON)
+  tofnav_target_options(tofnav_${name})
+endfunction()
+
+# tofnav_add_test(<module> SOURCES ... [DEPENDS ...]): one GoogleTest binary per module.
+function(tofnav_add_test name)
+  if(NOT TOFNAV_BUILD_TESTS)
+    return()
+  endif()
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
+  add_executable(tofnav_${name}_test ${ARG_SOURCES})
+  target_include_directories(tofnav_${name}_test PRIVATE ${PROJECT_SOURCE_DIR}/tests)
+  target_link_libraries(tofnav_${name}_test PRIVATE tofnav::${name} ${ARG_DEPENDS} GTest::gmock
+                                                    GTest::gtest_main)
+  target_compile_definitions(tofnav_${name}_test
+                             PRIVATE TOFNAV_DATA_DIR="${PROJECT_SOURCE_DIR}/data")
+  tofnav_target_options(tofnav_${name}_test)
+  include(GoogleTest)
+  gtest_discover_tests(tofnav_${name}_test DISCOVERY_TIMEOUT 60 PROPERTIES TIMEOUT 300)
+endfunction()
+
+# tofnav_add_benchmark(<name> SOURCES ... [DEPENDS ...])
+function(tofnav_add_benchmark name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPENDS} benchmark::benchmark)
+  tofnav_target_options(${name})
+endfunction()
+
+# tofnav_add_fuzzer(<name> SOURCES ... [DEPENDS ...]): libFuzzer target (clang only).
+function(tofnav_add_fuzzer name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;DEPENDS" ${ARGN})
+  add_executable(${name} ${ARG_SOURCES})
+  target_link_libraries(${name} PRIVATE ${ARG_DEPENDS})
+  target_compile_options(${name} PRIVATE -fsanitize=fuzzer)
+  target_link_options(${name} PRIVATE -fsanitize=fuzzer)
+  tofnav_target_options(${name})
+endfunction()
