@@ -13,7 +13,9 @@ for target in build/fuzz/fuzz/*_fuzz; do
   corpus=$(mktemp -d "/tmp/tofnav_${name}_XXXX")
   echo "== $name for ${seconds}s =="
   log="$corpus.log"
-  if ! "$target" -max_total_time="$seconds" -print_final_stats=1 -rss_limit_mb=4096 "$corpus" \
+  dict=()
+  [ -f "fuzz/${name%_fuzz}.dict" ] && dict=(-dict="fuzz/${name%_fuzz}.dict")
+  if ! "$target" "${dict[@]}" -max_total_time="$seconds" -print_final_stats=1 -rss_limit_mb=4096 "$corpus" \
       >"$log" 2>&1; then
     tail -n 60 "$log" >&2
     echo "$name found a crash (reproducer: crash-* in $(pwd))" >&2
