@@ -34,8 +34,8 @@ struct CtVolume {
   std::size_t Index(int i, int j, int k) const {
     return static_cast<std::size_t>(i) +
            static_cast<std::size_t>(dims[0]) *
-               (static_cast<std::size_t>(j) + static_cast<std::size_t>(dims[1]) *
-                                                  static_cast<std::size_t>(k));
+               (static_cast<std::size_t>(j) +
+                static_cast<std::size_t>(dims[1]) * static_cast<std::size_t>(k));
   }
   bool Contains(int i, int j, int k) const {
     return i >= 0 && j >= 0 && k >= 0 && i < dims[0] && j < dims[1] && k < dims[2];

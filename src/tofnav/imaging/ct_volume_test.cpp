@@ -35,8 +35,7 @@ TEST(CtVolume, VoxelCentresFollowTheAffineColumns) {
   EXPECT_TRUE(volume.VoxelCentre(0, 0, 0).isApprox(Eigen::Vector3d(-10.0, 20.0, 5.0), kExactMm));
   const Eigen::Vector3d step_k = volume.VoxelCentre(1, 2, 1) - volume.VoxelCentre(1, 2, 0);
   EXPECT_NEAR(step_k.norm(), 2.0, kExactMm);
-  EXPECT_NEAR(step_k.dot(volume.VoxelCentre(1, 0, 0) - volume.VoxelCentre(0, 0, 0)), 0.0,
-              kExactMm);
+  EXPECT_NEAR(step_k.dot(volume.VoxelCentre(1, 0, 0) - volume.VoxelCentre(0, 0, 0)), 0.0, kExactMm);
   const Eigen::Vector3d ijk = volume.PointToIjk(volume.VoxelCentre(3, 1, 1));
   EXPECT_LT((ijk - Eigen::Vector3d(3.0, 1.0, 1.0)).norm(), 1e-12);
 }

@@ -57,11 +57,6 @@ std::optional<std::vector<double>> Numbers(const std::string& text, std::size_t 
   return values;
 }
 
-std::string Trimmed(std::string text) {
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\0')) text.pop_back();
-  return text;
-}
-
 // Header of one file, or nullopt when it is not a DICOM image (not DICOM, or no pixel rows).
 std::optional<SliceHeader> ReadSliceHeader(const std::filesystem::path& path) {
   gdcm::Reader reader;
@@ -70,7 +65,9 @@ std::optional<SliceHeader> ReadSliceHeader(const std::filesystem::path& path) {
   gdcm::StringFilter strings;
   strings.SetFile(reader.GetFile());
   const auto text = [&](std::uint16_t group, std::uint16_t element) {
-    return Trimmed(strings.ToString(gdcm::Tag(group, element)));
+    std::string value = strings.ToString(gdcm::Tag(group, element));
+    while (!value.empty() && (value.back() == ' ' || value.back() == '\0')) value.pop_back();
+    return value;
   };
   SliceHeader slice;
   slice.path = path;
@@ -113,11 +110,8 @@ std::vector<SliceHeader> ScanFolder(const std::filesystem::path& folder) {
 std::vector<DicomSeriesSummary> Summarise(const std::vector<SliceHeader>& slices) {
   std::map<std::string, DicomSeriesSummary> by_uid;
   for (const SliceHeader& slice : slices) {
-    DicomSeriesSummary& summary = by_uid[slice.series_uid];
-    summary.series_instance_uid = slice.series_uid;
-    summary.modality = slice.modality;
-    summary.description = slice.description;
-    ++summary.file_count;
+    DicomSeriesSummary& s = by_uid[slice.series_uid];
+    s = {slice.series_uid, slice.modality, slice.description, s.file_count + 1};
   }
   std::vector<DicomSeriesSummary> out;
   for (auto& [uid, summary] : by_uid) out.push_back(std::move(summary));
@@ -183,27 +177,30 @@ Eigen::Matrix4d SortAndCheckStack(std::vector<SliceHeader>& slices, double max_d
         slice.columns != first.columns) {
       throw IoError(slice.path, std::nullopt, "slice size differs within the series");
     }
-    for (std::size_t n = 0; n < 6; ++n) {
-      if (std::abs((*slice.orientation)[n] - (*first.orientation)[n]) > kOrientationTolerance) {
-        throw IoError(slice.path, std::nullopt,
-                      "ImageOrientationPatient differs within the series");
+    const auto differs = [](const std::vector<double>& a, const std::vector<double>& b,
+                            double tolerance) {
+      for (std::size_t n = 0; n < a.size(); ++n) {
+        if (!(std::abs(a[n] - b[n]) <= tolerance)) return true;
       }
+      return false;
+    };
+    if (differs(*slice.orientation, *first.orientation, kOrientationTolerance)) {
+      throw IoError(slice.path, std::nullopt, "ImageOrientationPatient differs within the series");
     }
-    for (std::size_t n = 0; n < 2; ++n) {
-      if (std::abs((*slice.pixel_spacing)[n] - (*first.pixel_spacing)[n]) >
-              kPixelSpacingTolerance ||
-          !((*slice.pixel_spacing)[n] > 0.0)) {
-        throw IoError(slice.path, std::nullopt, "PixelSpacing differs or is not positive");
-      }
+    if (differs(*slice.pixel_spacing, *first.pixel_spacing, kPixelSpacingTolerance) ||
+        !((*slice.pixel_spacing)[0] > 0.0 && (*slice.pixel_spacing)[1] > 0.0)) {
+      throw IoError(slice.path, std::nullopt, "PixelSpacing differs or is not positive");
     }
   }
-  const std::vector<double>& iop = *first.orientation;
-  const Eigen::Vector3d row_direction(iop[0], iop[1], iop[2]);     // X: along a row (i)
+  // Copies: sorting below moves the slices.
+  const std::vector<double> iop = *first.orientation;
+  const std::vector<double> spacing = *first.pixel_spacing;     // (between rows, between columns)
+  const Eigen::Vector3d row_direction(iop[0], iop[1], iop[2]);  // X: along a row (i)
   const Eigen::Vector3d column_direction(iop[3], iop[4], iop[5]);  // Y: down a column (j)
   if (std::abs(row_direction.norm() - 1.0) > 1e-3 ||
       std::abs(column_direction.norm() - 1.0) > 1e-3 ||
       std::abs(row_direction.dot(column_direction)) > 1e-3) {
-    throw IoError(first.path, std::nullopt,
+    throw IoError(slices.front().path, std::nullopt,
                   "ImageOrientationPatient is not two orthonormal vectors");
   }
   const Eigen::Vector3d normal = row_direction.cross(column_direction);
@@ -233,7 +230,6 @@ Eigen::Matrix4d SortAndCheckStack(std::vector<SliceHeader>& slices, double max_d
                         std::to_string(step.norm()) + " mm; missing slice?)");
     }
   }
-  const std::vector<double>& spacing = *first.pixel_spacing;  // (between rows, between columns)
   Eigen::Matrix4d image_from_ijk = Eigen::Matrix4d::Identity();
   image_from_ijk.block<3, 1>(0, 0) = row_direction * spacing[1];
   image_from_ijk.block<3, 1>(0, 1) = column_direction * spacing[0];
@@ -297,12 +293,7 @@ CtVolume ReadDicomSeries(const std::filesystem::path& folder, const DicomSeriesO
           NarrowToFloat(slices[k].slope * stored[n] + slices[k].intercept);
     }
   }
-  try {
-    volume.Check();
-  } catch (const PreconditionError& error) {
-    throw IoError(folder, std::nullopt, std::string("invalid series geometry: ") + error.what());
-  }
-  return volume;
+  return volume;  // valid by construction: orthonormal IOP, positive spacings, distinct slices
 }
 
 }  // namespace tofnav

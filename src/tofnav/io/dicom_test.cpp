@@ -6,13 +6,13 @@
 #include <gdcmWriter.h>
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <string>
 
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/io_test_helpers.hpp"
 
 namespace tofnav {
 namespace {
@@ -82,14 +82,6 @@ void WriteSlice(const std::filesystem::path& path, const Slice& s) {
 
 class DicomSeries : public ::testing::Test {
  protected:
-  void SetUp() override {
-    folder_ = std::filesystem::temp_directory_path() /
-              ("tofnav_dicom_test_" + std::to_string(::getpid()) + "_" +
-               ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::remove_all(folder_);
-    std::filesystem::create_directories(folder_);
-  }
-  void TearDown() override { std::filesystem::remove_all(folder_); }
   // Writes slices k = 0..count-1 in a shuffled file order, alternating two rescale pairs.
   void WriteStack(int count, const std::string& uid = kUid) {
     for (int k = 0; k < count; ++k) {
@@ -102,7 +94,9 @@ class DicomSeries : public ::testing::Test {
       WriteSlice(folder_ / (uid.substr(uid.size() - 1) + "_" + std::to_string(count - 1 - k)), s);
     }
   }
-  std::filesystem::path folder_;
+  testing::TempDir temp_{std::string("dicom_test_") +
+                         ::testing::UnitTest::GetInstance()->current_test_info()->name()};
+  const std::filesystem::path& folder_ = temp_.path();
 };
 
 TEST_F(DicomSeries, ObliqueStackIsSortedByPositionWithPerSliceRescale) {

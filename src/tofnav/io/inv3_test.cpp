@@ -5,39 +5,18 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cstdio>
 #include <string>
 
 #include "tofnav/io/binary.hpp"
 #include "tofnav/io/gzip.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/io_test_helpers.hpp"
 
 namespace tofnav {
 namespace {
 
 using ::testing::HasSubstr;
 constexpr double kExactMm = 1e-12;
-
-// One ustar member: 512-byte header (octal size, checksum) + data padded to 512 bytes.
-void AddMember(std::vector<std::uint8_t>& tar, const std::string& name, const std::string& data,
-               char type = '0') {
-  std::array<char, 512> header{};
-  std::copy(name.begin(), name.end(), header.begin());
-  std::snprintf(header.data() + 100, 8, "%07o", 0644);
-  std::snprintf(header.data() + 124, 12, "%011o", static_cast<unsigned>(data.size()));
-  header[156] = type;
-  std::copy_n(
-      "ustar\0"
-      "00",
-      8, header.begin() + 257);
-  std::fill_n(header.begin() + 148, 8, ' ');
-  unsigned sum = 0;
-  for (const char c : header) sum += static_cast<unsigned char>(c);
-  std::snprintf(header.data() + 148, 8, "%06o", sum);
-  tar.insert(tar.end(), header.begin(), header.end());
-  tar.insert(tar.end(), data.begin(), data.end());
-  tar.resize(tar.size() + (512 - data.size() % 512) % 512, 0);
-}
 
 std::string Plist(const std::string& shape) {
   return "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<!DOCTYPE plist PUBLIC \"-//Apple//DTD PLIST "
@@ -57,13 +36,18 @@ std::string Matrix(int count) {  // int16 LE samples 0, -1, 2, -3, ...
   return std::string(w.bytes().begin(), w.bytes().end());
 }
 
+using testing::AppendEntry;
+using testing::HandHeader;
+using testing::ToBytes;
+
+// The layout of an InVesalius project: one folder holding main.plist, masks and the matrix.
 std::vector<std::uint8_t> Project(const std::string& plist, const std::string& matrix) {
   std::vector<std::uint8_t> tar;
-  AddMember(tar, "tmpabc/", "", '5');
-  AddMember(tar, "tmpabc/main.plist", plist);
-  AddMember(tar, "tmpabc/mask_0.dat", std::string(700, '\x01'));
-  AddMember(tar, "tmpabc/matrix.dat", matrix);
-  tar.resize(tar.size() + 1024, 0);
+  AppendEntry(tar, HandHeader("tmpabc/", 0, '5'), {});
+  AppendEntry(tar, HandHeader("tmpabc/main.plist", plist.size()), ToBytes(plist));
+  AppendEntry(tar, HandHeader("tmpabc/mask_0.dat", 700), std::vector<std::uint8_t>(700, 1));
+  AppendEntry(tar, HandHeader("tmpabc/matrix.dat", matrix.size()), ToBytes(matrix));
+  testing::AppendEndBlocks(tar);
   return DeflateGzip(tar);
 }
 
@@ -87,17 +71,17 @@ void ExpectIoError(const std::vector<std::uint8_t>& bytes, const std::string& te
 TEST(Inv3, CorruptProjectsAreRefused) {
   ExpectIoError(Project(Plist(kShape), Matrix(23)), "shape needs 48");
   ExpectIoError(Project(Plist("<integer>2</integer>"), Matrix(24)), "3 values");
-  ExpectIoError(Project("<plist><dict><key>x</key><strin>", Matrix(24)), "main.plist");
+  ExpectIoError(Project("<plist><dict><key>x</key><strin>", Matrix(24)), "XML plist");
   std::vector<std::uint8_t> tar;
-  AddMember(tar, "main.plist", Plist(kShape));
+  AppendEntry(tar, HandHeader("main.plist", Plist(kShape).size()), ToBytes(Plist(kShape)));
   tar[150] ^= 1;  // checksum digit
-  ExpectIoError(DeflateGzip(tar), "bad tar header");
+  ExpectIoError(DeflateGzip(tar), "checksum");
   std::vector<std::uint8_t> cut = Project(Plist(kShape), Matrix(24));
   cut.resize(cut.size() / 2);
   ExpectIoError(cut, "truncated");
   std::vector<std::uint8_t> no_matrix;
-  AddMember(no_matrix, "main.plist", Plist(kShape));
-  ExpectIoError(DeflateGzip(no_matrix), "expected main.plist and matrix.dat");
+  AppendEntry(no_matrix, HandHeader("main.plist", Plist(kShape).size()), ToBytes(Plist(kShape)));
+  ExpectIoError(DeflateGzip(no_matrix), "no matrix.dat");
 }
 
 TEST(Inv3, DebianCraniumIsAnAnatomicallyOrientedHeadCt) {

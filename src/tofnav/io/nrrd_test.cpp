@@ -3,7 +3,6 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <string>
 
@@ -12,6 +11,7 @@
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/gzip.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/io_test_helpers.hpp"
 
 namespace tofnav {
 namespace {
@@ -100,9 +100,8 @@ TEST(Nrrd, SpacingsOnlyIsAxisAlignedWithOriginZero) {
 }
 
 TEST(Nrrd, DetachedDataWithLineSkipAndByteSkipMinusOne) {
-  const auto folder =
-      std::filesystem::temp_directory_path() / ("tofnav_nrrd_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(folder);
+  const testing::TempDir temp("nrrd_test");
+  const std::filesystem::path& folder = temp.path();
   const auto data = Int16Samples(false);
   WriteFileAtomically(folder / "vol.raw", Join("two lines\nof text\nXYZ", data));
   std::string header = kLpsHeader;
@@ -112,7 +111,6 @@ TEST(Nrrd, DetachedDataWithLineSkipAndByteSkipMinusOne) {
   ExpectTruth(ReadNrrd(folder / "vol.nhdr"));
   // In memory (no data folder) a detached file is refused.
   EXPECT_THROW(DecodeNrrd(Join(header, {}), "mem.nhdr"), IoError);
-  std::filesystem::remove_all(folder);
 }
 
 // Asserts that decoding throws IoError at `offset` with `text` in the message.

@@ -27,8 +27,7 @@ class PlistParser {
 
  private:
   [[noreturn]] void Fail(const std::string& message) const {
-    throw IoError(path_, base_ + position_,
-                  "main.plist: " + message + " (offset in the decompressed tar)");
+    throw IoError(path_, base_ + position_, "XML plist: " + message);
   }
   void SkipBlanks() {
     while (position_ < text_.size() &&
@@ -57,12 +56,12 @@ class PlistParser {
     if (!Accept(token)) Fail("expected '" + std::string(token) + "'");
   }
   void ExpectOpen(std::string_view name) {  // <name ...attributes>
-    Expect("<" + std::string(name));
+    Expect(std::string("<").append(name));  // (GCC 12 -O3: false -Wrestrict on "<" + string)
     SkipPast(">");
   }
   // Text up to "</name>", with the five predefined XML entities decoded.
   std::string Text(std::string_view name) {
-    const std::string close = "</" + std::string(name) + ">";
+    const std::string close = std::string("</").append(name).append(">");
     const std::size_t end = text_.find(close, position_);
     if (end == std::string_view::npos) Fail("expected '" + close + "'");
     std::string out;
@@ -93,7 +92,8 @@ class PlistParser {
       while (!Accept("</dict>")) {
         Expect("<key>");
         std::string key = Text("key");
-        value.entries.emplace_back(std::move(key), Value(depth + 1));
+        value.keys.push_back(std::move(key));
+        value.items.push_back(Value(depth + 1));
       }
     } else if (Accept("<array/>")) {
       value.kind = PlistValue::Kind::kArray;
@@ -124,6 +124,13 @@ class PlistParser {
 };
 
 }  // namespace
+
+const PlistValue* PlistValue::Find(std::string_view key) const {
+  for (std::size_t n = 0; n < keys.size() && n < items.size(); ++n) {
+    if (keys[n] == key) return &items[n];
+  }
+  return nullptr;
+}
 
 PlistValue ParsePlist(std::string_view text, const std::filesystem::path& path,
                       std::uint64_t base_offset) {

@@ -7,7 +7,6 @@
 #include <filesystem>
 #include <string>
 #include <string_view>
-#include <utility>
 #include <vector>
 
 namespace tofnav {
@@ -17,16 +16,11 @@ struct PlistValue {
   enum class Kind { kString, kNumber, kBool, kArray, kDict } kind = Kind::kString;
   std::string text;  // string content, or the number's literal
   bool flag = false;
-  std::vector<PlistValue> items;                            // array
-  std::vector<std::pair<std::string, PlistValue>> entries;  // dict, in file order
+  std::vector<PlistValue> items;  // array elements, or dict values in file order
+  std::vector<std::string> keys;  // dict only: keys[n] names items[n]
 
-  /// The dict entry named `key`, or nullptr.
-  const PlistValue* Find(std::string_view key) const {
-    for (const auto& [name, value] : entries) {
-      if (name == key) return &value;
-    }
-    return nullptr;
-  }
+  /// The dict value named `key`, or nullptr.
+  const PlistValue* Find(std::string_view key) const;
 };
 
 /// Parses a whole plist document (prolog, <plist>, one value). IoError naming `path` at

@@ -4,7 +4,6 @@
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <Eigen/Geometry>
 #include <cstdlib>
@@ -13,6 +12,7 @@
 
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/io_test_helpers.hpp"
 
 namespace tofnav {
 namespace {
@@ -21,14 +21,6 @@ using ::testing::HasSubstr;
 // Acceptance: the same volume from independent writers gives the same LPS voxel centres. NIfTI
 // stores float32 (~1e-6 mm here), DICOM 16-character decimal strings (~1e-10 mm).
 constexpr double kCrossFormatMm = 1e-4;
-
-std::filesystem::path TempDir(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("tofnav_volume_io_test_" + std::to_string(::getpid()) + "_" + name);
-  std::filesystem::remove_all(dir);
-  std::filesystem::create_directories(dir);
-  return dir;
-}
 
 CtVolume SmallOblique() {
   CtVolume v;
@@ -42,7 +34,8 @@ CtVolume SmallOblique() {
 }
 
 TEST(VolumeIo, WriteVolumeThenReadVolumeByContentAndExtension) {
-  const auto dir = TempDir("roundtrip");
+  const testing::TempDir temp("volume_io_roundtrip");
+  const std::filesystem::path& dir = temp.path();
   const CtVolume v = SmallOblique();
   for (const char* name : {"a.nrrd", "b.nii", "c.nii.gz"}) {
     WriteVolume(dir / name, v, {.sample_type = VolumeSampleType::kInt16});
@@ -57,7 +50,6 @@ TEST(VolumeIo, WriteVolumeThenReadVolumeByContentAndExtension) {
   WriteFileAtomically(dir / "junk.nrrd", std::string("hello world"));
   EXPECT_THAT([&] { ReadVolume(dir / "junk.nrrd"); },
               ::testing::ThrowsMessage<IoError>(HasSubstr("unrecognised volume format")));
-  std::filesystem::remove_all(dir);
 }
 
 struct Truth {
@@ -76,7 +68,8 @@ Truth ReadTruth(const std::filesystem::path& path) {
 }
 
 TEST(VolumeIo, NiftiDicomAndNrrdFromIndependentWritersAgree) {
-  const auto dir = TempDir("oracle");
+  const testing::TempDir temp("volume_io_oracle");
+  const std::filesystem::path& dir = temp.path();
   const std::string command =
       "/usr/bin/python3 " TOFNAV_TESTS_DIR "/volume_oracle.py " + dir.string();
   const int status = std::system(command.c_str());
@@ -104,7 +97,6 @@ TEST(VolumeIo, NiftiDicomAndNrrdFromIndependentWritersAgree) {
     EXPECT_LT(worst_mm, kCrossFormatMm) << v.geometry_source;
     RecordProperty(std::string("worst_mm_") + name, ::testing::PrintToString(worst_mm));
   }
-  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
