@@ -4,6 +4,7 @@
 
 namespace tofnav {
 
+int RunConvert(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 
 }  // namespace tofnav

@@ -16,7 +16,8 @@ struct Command {
 };
 
 constexpr Command kCommands[] = {
-    {"info", "describe a recording, calibration or mesh", tofnav::RunInfo},
+    {"info", "describe a recording, calibration, mesh or volume", tofnav::RunInfo},
+    {"convert", "re-write a recording as hl2ss RAW/ZDEPTH or StreamRecorder", tofnav::RunConvert},
 };
 
 void PrintUsage() {

@@ -17,6 +17,7 @@
 #include "tofnav/io/io_error.hpp"
 #include "tofnav/io/mesh_io.hpp"
 #include "tofnav/io/stream_recorder.hpp"
+#include "tofnav/io/volume_io.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 
 namespace tofnav {
@@ -180,6 +181,26 @@ Json MeshJson(const std::filesystem::path& path) {
   return out;
 }
 
+Json VolumeJson(const std::filesystem::path& path) {
+  const CtVolume volume = ReadVolume(path);
+  const Eigen::Vector3d spacing = volume.spacing_mm();
+  const auto [lo, hi] = std::minmax_element(volume.values.begin(), volume.values.end());
+  Json image_from_ijk = Json::array();
+  for (int r = 0; r < 4; ++r) {
+    image_from_ijk.push_back({volume.image_from_ijk(r, 0), volume.image_from_ijk(r, 1),
+                              volume.image_from_ijk(r, 2), volume.image_from_ijk(r, 3)});
+  }
+  return Json{{"kind", "volume"},
+              {"name", volume.name},
+              {"modality", volume.modality},
+              {"dims", {volume.dims[0], volume.dims[1], volume.dims[2]}},
+              {"spacing_mm", {spacing.x(), spacing.y(), spacing.z()}},
+              {"image_from_ijk_lps", image_from_ijk},
+              {"geometry_source", volume.geometry_source},
+              {"value_min", volume.values.empty() ? 0.0 : *lo},
+              {"value_max", volume.values.empty() ? 0.0 : *hi}};
+}
+
 bool HasMagic(const std::filesystem::path& path, std::string_view magic) {
   const RandomAccessFile file(path);
   if (file.size() < magic.size()) return false;
@@ -197,14 +218,21 @@ Json Describe(const std::filesystem::path& path, const DescribeOptions& options)
       out.update(CalibrationJson(ReadHl2ssCalibration(path)));
       return out;
     }
-    throw IoError(path, std::nullopt,
-                  "expected a StreamRecorder capture (Depth AHaT.tar) or an hl2ss calibration "
-                  "folder (rm_depth_ahat/)");
+    try {
+      return VolumeJson(path);  // a DICOM series folder
+    } catch (const IoError& e) {
+      throw IoError(path, std::nullopt,
+                    "expected a StreamRecorder capture (Depth AHaT.tar), an hl2ss calibration "
+                    "folder (rm_depth_ahat/) or a DICOM series (" + std::string(e.what()) + ")");
+    }
   }
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (extension == ".ply" || extension == ".stl" || extension == ".obj") return MeshJson(path);
+  if (extension == ".nrrd" || extension == ".nii" || extension == ".gz" || extension == ".inv3") {
+    return VolumeJson(path);
+  }
   if (std::filesystem::exists(path) && std::filesystem::file_size(path) == kHl2ssMode2Bytes &&
       !HasMagic(path, "HL2SS")) {
     Json out{{"kind", "calibration"}, {"format", "hl2ss Mode-2 blob"}};
