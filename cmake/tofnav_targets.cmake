@@ -4,7 +4,9 @@
 function(tofnav_target_options target)
   target_compile_features(${target} PUBLIC cxx_std_20)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wconversion -Wshadow
-                                           -Wnon-virtual-dtor -Wold-style-cast)
+                                           -Wnon-virtual-dtor -Wold-style-cast
+                                           # clang's -Wconversion adds sign conversions; GCC's not
+                                           $<$<CXX_COMPILER_ID:Clang>:-Wno-sign-conversion>)
   if(TOFNAV_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

@@ -7,10 +7,10 @@
 
 namespace tofnav {
 
-void Require(bool condition, std::string_view message, std::source_location where) {
+void Require(bool condition, std::string_view message, SourceLocation where) {
   if (condition) return;
-  std::string text = std::filesystem::path(where.file_name()).filename().string();
-  text += ':' + std::to_string(where.line()) + ' ' + where.function_name() + ": ";
+  std::string text = std::filesystem::path(where.file).filename().string();
+  text += ':' + std::to_string(where.line) + ' ' + where.function + ": ";
   text += message;
   throw PreconditionError(text);
 }
