@@ -5,7 +5,7 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config
-  libeigen3-dev libtbb-dev libzstd-dev zlib1g-dev libcli11-dev nlohmann-json3-dev
+  libeigen3-dev libtbb-dev libzstd-dev zlib1g-dev libcli11-dev nlohmann-json3-dev libembree-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 clang-format-14 libclang-rt-14-dev
   libgdcm-dev                                    # io/: DICOM series
