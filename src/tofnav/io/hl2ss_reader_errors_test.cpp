@@ -23,7 +23,7 @@ constexpr std::uint64_t kEmptyPacket = kFirstPacket + kFramePacketBytes;
 constexpr std::uint64_t kSecondFramePacket = kEmptyPacket + 12 + 16 + 64;
 
 void Poke32(std::vector<std::uint8_t>& bytes, std::uint64_t offset, std::uint32_t value) {
-  for (int i = 0; i < 4; ++i) bytes[offset + i] = static_cast<std::uint8_t>(value >> (8 * i));
+  for (int i = 0; i < 4; ++i) bytes.at(offset + i) = static_cast<std::uint8_t>(value >> (8 * i));
 }
 
 void ExpectIoError(const std::vector<std::uint8_t>& bytes, std::uint64_t offset,
@@ -146,6 +146,31 @@ TEST(Hl2ssRecordingErrors, H26xFramesNeedLibavcodec) {
   } catch (const IoError& e) {
     EXPECT_EQ(e.offset(), kFirstPacket);
     EXPECT_THAT(e.what(), HasSubstr("libavcodec"));
+  }
+}
+
+TEST(Hl2ssRecordingErrors, CorruptZdepthStreamAtItsFileOffset) {
+  const auto path = TempPath("zdepth.bin");
+  Hl2ssWriterOptions options;
+  options.profile_z = Hl2ssDepthProfile::kZdepth;
+  options.mode = 0;
+  AhatFrame frame;
+  frame.range_mm = Image<std::uint16_t>(512, 512, 500);
+  frame.ab = Image<std::uint16_t>(512, 512, 7);
+  Hl2ssRecordingWriter writer(path, options);
+  writer.Append(frame);
+  writer.Close();
+  auto bytes = ReadFileBytes(path);
+  const std::uint64_t stream = 8 + 2 + 4 + options.user.size() + 10 + 16 + 12 + 8;
+  ASSERT_EQ(bytes[stream], 0xCA);  // Zdepth magic (ahat.md 4.1)
+  bytes[stream] = 0xCB;
+  const Hl2ssRecording recording(bytes, "zdepth.bin");
+  ASSERT_EQ(recording.frame_count(), 1u);
+  try {
+    recording.ReadFrame(0);
+    FAIL();
+  } catch (const IoError& e) {
+    EXPECT_EQ(e.offset(), stream) << e.what();
   }
 }
 
