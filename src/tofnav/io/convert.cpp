@@ -11,7 +11,8 @@ namespace {
 
 // Frame loop shared by both writers (each has Append(frame) and Close()).
 template <typename Writer>
-ConvertResult CopyFrames(const AhatRecording& input, Writer& writer, const ConvertOptions& options) {
+ConvertResult CopyFrames(const AhatRecording& input, Writer& writer,
+                         const ConvertOptions& options) {
   ConvertResult result;
   const std::size_t n = input.frame_count();
   for (std::size_t i = 0; i < n; ++i) {
