@@ -10,6 +10,11 @@
 
 namespace tofnav {
 
+/// Our convention for the API coordinate of a pixel centre: API = array index + 0.5 (ahat.md
+/// section 5.3, c). The synthetic generator writes tables with it; AhatCameraOptions defaults to
+/// it.
+constexpr double kApiPixelCentreOffsetPx = 0.5;
+
 /// Device calibration contents, in our units and conventions (io/ converts on read).
 struct AhatCalibration {
   /// Unit-plane (x, y) (z = 1) of the API point (i + s, j + s) for array index (i, j) = (column,
@@ -38,15 +43,19 @@ struct SyntheticAhatOptions {
   /// Beyond this radius the table folds back, as real tables do at the corners [px].
   double fold_radius_px = 262.0;
   double sample_offset_px = 0.5;  // s of the written table
-  /// Pinhole of the undistort map: focal length [px]; the map covers about +-45 degrees.
+  /// Pinhole of the undistort map: 512 x 512, focal length [px] (254 covers about +-45 degrees),
+  /// centre (255.5, 255.5) in integer-centred pinhole indices.
   double pinhole_focal_px = 254.0;
   Rigid3d rig_from_ahat;  // identity by default; TypicalRigFromAhat() gives the measured device
+  void Check() const;     // throws PreconditionError naming the bad field
 };
 
 /// The measured device extrinsics of ahat.md section 10, rounded, as rig_from_ahat [mm].
 Rigid3d TypicalRigFromAhat();
 
-/// Builds a calibration from the model: unit-plane table, undistort map, K, extrinsics.
+/// Builds a 512 x 512 calibration from the model: unit-plane table (entries with theta outside
+/// (-pi/2, pi/2) are NaN), undistort map (raw API coordinates, -1 outside the unfolded field), K,
+/// extrinsics. Throws PreconditionError on a bad option.
 AhatCalibration MakeSyntheticAhatCalibration(const SyntheticAhatOptions& options = {});
 
 }  // namespace tofnav
