@@ -5,9 +5,12 @@ set -euo pipefail
 
 packages=(
   cmake ninja-build g++ pkg-config
-  libeigen3-dev libtbb-dev libzstd-dev zlib1g-dev libcli11-dev nlohmann-json3-dev
+  libeigen3-dev libtbb-dev libzstd-dev zlib1g-dev libcli11-dev nlohmann-json3-dev libembree-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 clang-format-14 libclang-rt-14-dev
+  libgdcm-dev                                    # io/: DICOM series
+  python3-numpy python3-nibabel python3-pydicom  # tests/volume_oracle.py
+  invesalius-examples mricron-data               # real head CT/MR read by tests, never committed
 )
 
 missing=()

@@ -5,6 +5,8 @@
 #include <iostream>
 #include <string_view>
 
+#include "commands.hpp"
+
 namespace {
 
 struct Command {
@@ -14,14 +16,13 @@ struct Command {
 };
 
 constexpr Command kCommands[] = {
-    {"", "", nullptr},
+    {"info", "describe a recording, calibration, mesh or volume", tofnav::RunInfo},
+    {"convert", "re-write a recording as hl2ss RAW/ZDEPTH or StreamRecorder", tofnav::RunConvert},
 };
 
 void PrintUsage() {
   std::cout << "usage: tofnav <subcommand> [options]   (tofnav <subcommand> --help)\n\n";
-  for (const Command& c : kCommands) {
-    if (c.run != nullptr) std::cout << "  " << c.name << "\t" << c.summary << "\n";
-  }
+  for (const Command& c : kCommands) std::cout << "  " << c.name << "\t" << c.summary << "\n";
 }
 
 }  // namespace
@@ -32,7 +33,7 @@ int main(int argc, char** argv) {
     return argc < 2 ? EXIT_FAILURE : EXIT_SUCCESS;
   }
   for (const Command& c : kCommands) {
-    if (c.run == nullptr || c.name != argv[1]) continue;
+    if (c.name != argv[1]) continue;
     try {
       return c.run(argc - 1, argv + 1);
     } catch (const std::exception& e) {

@@ -14,7 +14,9 @@ template <typename T>
 class Image {
  public:
   Image() = default;
-  Image(int width, int height, T fill = T{})
+  /// Zero-filled (Eigen pixel types included, whose T{} is uninitialised).
+  Image(int width, int height) : Image(width, height, ZeroPixel()) {}
+  Image(int width, int height, T fill)
       : width_(width), height_(height), pixels_(CheckedSize(width, height), fill) {}
 
   int width() const { return width_; }
@@ -40,6 +42,13 @@ class Image {
   bool operator==(const Image& other) const = default;
 
  private:
+  static T ZeroPixel() {
+    if constexpr (requires { T::Zero(); }) {
+      return T::Zero();
+    } else {
+      return T{};
+    }
+  }
   static std::size_t CheckedSize(int width, int height) {
     Require(width >= 0 && height >= 0, "image size must be non-negative");
     return static_cast<std::size_t>(width) * static_cast<std::size_t>(height);

@@ -83,10 +83,12 @@ class ByteWriter {
   template <typename T>
   void Le(T value) {
     static_assert(std::is_arithmetic_v<T>);
-    std::uint8_t raw[sizeof(T)];
-    std::memcpy(raw, &value, sizeof(T));
-    if constexpr (std::endian::native == std::endian::big) std::reverse(raw, raw + sizeof(T));
-    bytes_.insert(bytes_.end(), raw, raw + sizeof(T));
+    const std::size_t at = bytes_.size();
+    bytes_.resize(at + sizeof(T));
+    std::memcpy(bytes_.data() + at, &value, sizeof(T));
+    if constexpr (std::endian::native == std::endian::big) {
+      std::reverse(bytes_.begin() + static_cast<std::ptrdiff_t>(at), bytes_.end());
+    }
   }
   template <typename T>
   void Be(T value) {

@@ -1,0 +1,10 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// One RunXxx(argc, argv) per subcommand: parse, read, call one library function, write.
+#pragma once
+
+namespace tofnav {
+
+int RunConvert(int argc, char** argv);
+int RunInfo(int argc, char** argv);
+
+}  // namespace tofnav

@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav convert: re-write a recording as hl2ss RAW, hl2ss ZDEPTH or a StreamRecorder capture.
+#include "tofnav/io/convert.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <map>
+#include <optional>
+
+#include "commands.hpp"
+#include "progress.hpp"
+#include "tofnav/io/hl2ss_calibration.hpp"
+
+namespace tofnav {
+
+int RunConvert(int argc, char** argv) {
+  CLI::App app{"Re-write an AHAT recording in another container", "tofnav convert"};
+  std::filesystem::path input_path, output_path, calibration_path;
+  std::optional<double> sample_offset_px;
+  bool quiet = false;
+  ConvertOptions options;
+  const std::map<std::string, RecordingFormat> formats = {
+      {"raw", RecordingFormat::kHl2ssRaw},
+      {"zdepth", RecordingFormat::kHl2ssZdepth},
+      {"stream-recorder", RecordingFormat::kStreamRecorder}};
+  app.add_option("input", input_path, "hl2ss .bin file or StreamRecorder folder")->required();
+  app.add_option("output", output_path, ".bin file (raw, zdepth) or folder (stream-recorder)")
+      ->required();
+  app.add_option("--to", options.format, "output container")
+      ->required()
+      ->transform(CLI::CheckedTransformer(formats, CLI::ignore_case));
+  app.add_option("--calibration", calibration_path,
+                 "hl2ss calibration folder, for StreamRecorder output from an hl2ss input");
+  app.add_option("--sample-offset", sample_offset_px,
+                 "LUT sample offset of the calibration (0 or 0.5; default: auto rule)");
+  app.add_flag("-q,--quiet", quiet, "no progress bar");
+  CLI11_PARSE(app, argc, argv);
+
+  if (!calibration_path.empty()) {
+    options.calibration = ReadHl2ssCalibration(calibration_path, sample_offset_px);
+  }
+  ProgressBar progress("convert", quiet);
+  options.progress = [&](std::size_t done, std::size_t total) { progress.Update(done, total); };
+  const ConvertResult result =
+      ConvertRecording(*OpenAhatRecording(input_path), output_path, options);
+  std::cout << "wrote " << result.frames_written << " frames (" << result.frames_with_pose
+            << " with pose) to " << output_path.string() << "\n";
+  return EXIT_SUCCESS;
+}
+
+}  // namespace tofnav

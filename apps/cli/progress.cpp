@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "progress.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <utility>
+
+namespace tofnav {
+
+ProgressBar::ProgressBar(std::string label, bool quiet)
+    : label_(std::move(label)),
+      enabled_(!quiet && ::isatty(STDERR_FILENO) == 1),
+      start_(std::chrono::steady_clock::now()) {}
+
+ProgressBar::~ProgressBar() {
+  if (drawn_) std::fputc('\n', stderr);
+}
+
+void ProgressBar::Update(std::size_t done, std::size_t total) {
+  if (!enabled_ || total == 0) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (drawn_ && done < total && now - last_draw_ < std::chrono::milliseconds(100)) return;
+  last_draw_ = now;
+  drawn_ = true;
+  const double elapsed_s = std::chrono::duration<double>(now - start_).count();
+  const double rate = elapsed_s > 0.0 ? static_cast<double>(done) / elapsed_s : 0.0;
+  const double left_s = rate > 0.0 ? static_cast<double>(total - done) / rate : 0.0;
+  constexpr int kWidth = 30;
+  const int filled =
+      static_cast<int>(kWidth * static_cast<double>(done) / static_cast<double>(total));
+  std::fprintf(stderr, "\r%s [%.*s%*s] %zu/%zu  %.1f/s  %.0f s left ", label_.c_str(), filled,
+               "##############################", kWidth - filled, "", done, total, rate, left_s);
+  std::fflush(stderr);
+}
+
+}  // namespace tofnav

@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Re-writes an AHAT recording in another container.
+#include "tofnav/io/convert.hpp"
+
+#include "tofnav/core/require.hpp"
+#include "tofnav/io/hl2ss_recording.hpp"
+#include "tofnav/io/stream_recorder.hpp"
+
+namespace tofnav {
+namespace {
+
+// Frame loop shared by both writers (each has Append(frame) and Close()).
+template <typename Writer>
+ConvertResult CopyFrames(const AhatRecording& input, Writer& writer,
+                         const ConvertOptions& options) {
+  ConvertResult result;
+  const std::size_t n = input.frame_count();
+  for (std::size_t i = 0; i < n; ++i) {
+    const AhatFrame frame = input.ReadFrame(i);
+    writer.Append(frame);
+    ++result.frames_written;
+    result.frames_with_pose += frame.world_from_rig ? 1 : 0;
+    if (options.progress) options.progress(i + 1, n);
+  }
+  writer.Close();
+  return result;
+}
+
+}  // namespace
+
+ConvertResult ConvertRecording(const AhatRecording& input, const std::filesystem::path& output,
+                               const ConvertOptions& options) {
+  if (options.format == RecordingFormat::kStreamRecorder) {
+    const std::optional<AhatCalibration> calibration =
+        options.calibration ? options.calibration : input.calibration();
+    Require(calibration.has_value(),
+            "StreamRecorder output needs a calibration (the input has none: pass one)");
+    StreamRecorderWriter writer(output, *calibration);
+    return CopyFrames(input, writer, options);
+  }
+  Hl2ssWriterOptions writer_options;
+  writer_options.mode = 1;
+  writer_options.profile_z = options.format == RecordingFormat::kHl2ssZdepth
+                                 ? Hl2ssDepthProfile::kZdepth
+                                 : Hl2ssDepthProfile::kSame;
+  Hl2ssRecordingWriter writer(output, writer_options);
+  return CopyFrames(input, writer, options);
+}
+
+}  // namespace tofnav
