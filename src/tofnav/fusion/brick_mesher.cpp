@@ -18,19 +18,11 @@ constexpr int kBrickCells = kBrickSide * kBrickSide * kBrickSide;
 constexpr int kOwnedEdges = 3 * kBrickCells;  // +x, +y, +z edge of each own lattice point
 constexpr std::array<int, 3> kAxisStride = {1, kBrickSamplesSide,
                                             kBrickSamplesSide* kBrickSamplesSide};
-constexpr std::uint8_t kInvalid = 0, kOutside = 1, kInside = 2;
 
 constexpr int SampleIndex(int x, int y, int z) {
   return x + kBrickSamplesSide * (y + kBrickSamplesSide * z);
 }
 constexpr int CellIndex(int x, int y, int z) { return x + kBrickSide * (y + kBrickSide * z); }
-
-constexpr std::array<int, 8> CornerOffsets() {
-  std::array<int, 8> offsets{};
-  for (int c = 0; c < 8; ++c) offsets[c] = SampleIndex(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-  return offsets;
-}
-constexpr std::array<int, 8> kCornerOffset = CornerOffsets();
 
 constexpr int kEdgeWords = kOwnedEdges / 64;
 
@@ -48,34 +40,59 @@ struct BrickOutput {
   std::int64_t first_vertex = 0;
 };
 
-/// Pass 1: vertices on the brick's own edges and the cells that produce triangles.
+/// Bits set in v (SWAR: the build targets baseline x86-64, which has no popcnt instruction).
+constexpr int Popcount(std::uint64_t v) {
+  v = v - ((v >> 1) & 0x5555555555555555ull);
+  v = (v & 0x3333333333333333ull) + ((v >> 2) & 0x3333333333333333ull);
+  v = (v + (v >> 4)) & 0x0F0F0F0F0F0F0F0Full;
+  return static_cast<int>((v * 0x0101010101010101ull) >> 56);
+}
+
+/// Pass 1: vertices on the brick's own edges and the cells that produce triangles. Samples are
+/// packed into 9-bit row masks (bit x of row y + 9 z), so whole rows of edges and cells are
+/// classified with a few bit operations and only the crossing ones are visited.
 void Classify(const BrickLattice& lattice, std::size_t brick, BrickOutput& out) {
   BrickSamples samples;
   lattice.load(brick, samples);
-  std::array<std::uint8_t, kBrickSamples> flag;
-  bool any_inside = false, any_outside = false;
-  for (int i = 0; i < kBrickSamples; ++i) {
-    const float value = samples.value[static_cast<std::size_t>(i)];
-    const bool valid = samples.valid[static_cast<std::size_t>(i)] != 0 && std::isfinite(value);
-    flag[static_cast<std::size_t>(i)] = !valid ? kInvalid : value < 0.0f ? kInside : kOutside;
-    any_inside |= valid && value < 0.0f;
-    any_outside |= valid && value >= 0.0f;
+  constexpr int kRows = kBrickSamplesSide * kBrickSamplesSide;
+  std::array<std::uint32_t, kRows> inside{}, valid{};
+  std::uint32_t any_inside = 0, any_outside = 0;
+  for (int r = 0; r < kRows; ++r) {
+    std::uint32_t in = 0, ok = 0;
+    for (int x = 0; x < kBrickSamplesSide; ++x) {
+      const auto i = static_cast<std::size_t>(r * kBrickSamplesSide + x);
+      const float value = samples.value[i];
+      const bool usable = samples.valid[i] != 0 && std::isfinite(value);
+      ok |= static_cast<std::uint32_t>(usable) << x;
+      in |= static_cast<std::uint32_t>(usable && value < 0.0f) << x;
+    }
+    inside[static_cast<std::size_t>(r)] = in;
+    valid[static_cast<std::size_t>(r)] = ok;
+    any_inside |= in;
+    any_outside |= ok & ~in;
   }
-  if (!any_inside || !any_outside) return;
+  if (any_inside == 0 || any_outside == 0) return;
 
   const Eigen::Vector3d first = (kBrickSide * lattice.keys[brick]).cast<double>();
   for (int z = 0; z < kBrickSide; ++z) {
     for (int y = 0; y < kBrickSide; ++y) {
-      for (int x = 0; x < kBrickSide; ++x) {
-        const int i0 = SampleIndex(x, y, z);
-        const std::uint8_t f0 = flag[static_cast<std::size_t>(i0)];
-        if (f0 == kInvalid) continue;
+      const auto r = static_cast<std::size_t>(y + kBrickSamplesSide * z);
+      const std::size_t next[3] = {r, r + 1, r + kBrickSamplesSide};  // rows of the +x/+y/+z ends
+      std::uint32_t crossing[3];
+      for (int axis = 0; axis < 3; ++axis) {
+        const std::uint32_t shift = axis == 0 ? 1 : 0;
+        const std::size_t n = next[axis];
+        crossing[axis] =
+            (inside[r] ^ (inside[n] >> shift)) & valid[r] & (valid[n] >> shift) & 0xFFu;
+      }
+      for (std::uint32_t any = crossing[0] | crossing[1] | crossing[2]; any != 0; any &= any - 1) {
+        const int x = std::countr_zero(any);
         for (int axis = 0; axis < 3; ++axis) {
-          const int i1 = i0 + kAxisStride[static_cast<std::size_t>(axis)];
-          const std::uint8_t f1 = flag[static_cast<std::size_t>(i1)];
-          if (f1 == kInvalid || f1 == f0) continue;
+          if (((crossing[axis] >> x) & 1u) == 0) continue;
+          const int i0 = SampleIndex(x, y, z);
           const double v0 = samples.value[static_cast<std::size_t>(i0)];
-          const double v1 = samples.value[static_cast<std::size_t>(i1)];
+          const double v1 = samples.value[static_cast<std::size_t>(
+              i0 + kAxisStride[static_cast<std::size_t>(axis)])];
           Eigen::Vector3d point = first + Eigen::Vector3d(x, y, z);
           point[axis] += v0 / (v0 - v1);  // where the linear interpolant crosses zero
           const int slot = EdgeSlot(CellIndex(x, y, z), axis);
@@ -88,21 +105,21 @@ void Classify(const BrickLattice& lattice, std::size_t brick, BrickOutput& out) 
   int rank = 0;
   for (int w = 0; w < kEdgeWords; ++w) {
     out.edge_rank[static_cast<std::size_t>(w)] = static_cast<std::uint16_t>(rank);
-    rank += std::popcount(out.edge_bits[static_cast<std::size_t>(w)]);
+    rank += Popcount(out.edge_bits[static_cast<std::size_t>(w)]);
   }
   for (int z = 0; z < kBrickSide; ++z) {
     for (int y = 0; y < kBrickSide; ++y) {
-      for (int x = 0; x < kBrickSide; ++x) {
-        const int base = SampleIndex(x, y, z);
-        int mask = 0;
-        bool valid = true;
-        for (int c = 0; c < 8 && valid; ++c) {
-          const std::uint8_t f =
-              flag[static_cast<std::size_t>(base + kCornerOffset[static_cast<std::size_t>(c)])];
-          valid = f != kInvalid;
-          if (f == kInside) mask |= 1 << c;
-        }
-        if (!valid || mask == 0 || mask == 255) continue;
+      // Corner c = x | y << 1 | z << 2 of cell x: bits x, x + 1 of these four rows.
+      const auto r = static_cast<std::size_t>(y + kBrickSamplesSide * z);
+      const std::size_t rows[4] = {r, r + 1, r + kBrickSamplesSide, r + kBrickSamplesSide + 1};
+      std::uint32_t ok = 0x1FFu, all = 0x1FFu, some = 0;
+      for (const std::size_t row : rows) ok &= valid[row], all &= inside[row], some |= inside[row];
+      const std::uint32_t complete = ok & (ok >> 1);
+      const std::uint32_t mixed = (some | (some >> 1)) & ~(all & (all >> 1)) & complete & 0xFFu;
+      for (std::uint32_t m = mixed; m != 0; m &= m - 1) {
+        const int x = std::countr_zero(m);
+        std::uint32_t mask = 0;
+        for (int k = 0; k < 4; ++k) mask |= ((inside[rows[k]] >> x) & 3u) << (2 * k);
         out.cells.emplace_back(static_cast<std::uint16_t>(CellIndex(x, y, z)),
                                static_cast<std::uint8_t>(mask));
       }
@@ -151,7 +168,7 @@ void Triangulate(const BrickLattice& lattice, std::vector<BrickOutput>& outputs,
           throw std::logic_error("MeshBricks: a brick owning a crossed edge is missing");
         }
         ids[k] = static_cast<int>(holder->first_vertex + holder->edge_rank[word] +
-                                  std::popcount(holder->edge_bits[word] & (bit - 1)));
+                                  Popcount(holder->edge_bits[word] & (bit - 1)));
       }
       if (lattice.flip) std::swap(ids[1], ids[2]);
       out.triangles.emplace_back(ids[0], ids[1], ids[2]);

@@ -16,7 +16,7 @@ namespace {
 constexpr std::int64_t kRowsPerTask = 8;
 constexpr std::int64_t kMaxMaskBlocks = std::int64_t{1} << 27;  // 128 MB of touched-block flags
 
-int FloorDiv(int a, int b) { return a >= 0 ? a / b : -((-a + b - 1) / b); }
+int FloorDiv(int a, int b) { return a / b - (a % b < 0 ? 1 : 0); }  // rounds towards -inf
 
 /// Index range [lo, hi] of the voxels within `truncation` of coordinate c, in mm.
 int LowVoxel(float c, float truncation, float voxel) {

@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <numbers>
 #include <random>
@@ -92,6 +93,79 @@ inline Image<float> RenderSphere(const AhatCamera& camera, const Rigid3d& tool_f
     }
   }
   return range;
+}
+
+/// An ellipsoid "head" in `tool`: semi-axes along the columns of tool_from_head's rotation.
+struct EllipsoidHead {
+  Eigen::Vector3d centre_in_tool = Eigen::Vector3d(10.3, -5.6, 20.2);
+  Eigen::Matrix3d rotation = Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized())
+                                 .toRotationMatrix();  // tool from head axes
+  Eigen::Vector3d semi_axes_mm = Eigen::Vector3d(75.0, 95.0, 110.0);
+
+  /// Range along every valid pixel ray to the ellipsoid (0 where it misses), plus Gaussian noise
+  /// of sigma_mm drawn from `rng`.
+  Image<float> Render(const AhatCamera& camera, const Rigid3d& tool_from_ahat, double sigma_mm,
+                      std::mt19937_64& rng) const {
+    // In scaled head coordinates the ellipsoid is the unit sphere: solve |o + t d| = 1.
+    const Eigen::Matrix3d to_unit = semi_axes_mm.cwiseInverse().asDiagonal() *
+                                    rotation.transpose() * tool_from_ahat.RotationMatrix();
+    const Eigen::Vector3d o = semi_axes_mm.cwiseInverse().asDiagonal() * rotation.transpose() *
+                              (tool_from_ahat.translation - centre_in_tool);
+    std::normal_distribution<double> noise(0.0, sigma_mm);
+    Image<float> range(camera.width(), camera.height(), 0.0f);
+    for (int v = 0; v < camera.height(); ++v) {
+      for (int u = 0; u < camera.width(); ++u) {
+        if (!camera.IsValid(u, v)) continue;
+        const Eigen::Vector3d d = to_unit * camera.PixelRay(u, v).cast<double>();
+        const double a = d.squaredNorm(), b = o.dot(d), c = o.squaredNorm() - 1.0;
+        const double discriminant = b * b - a * c;
+        if (discriminant < 0.0) continue;
+        const double t = (-b - std::sqrt(discriminant)) / a;
+        if (t > 0.0) range(u, v) = static_cast<float>(t + (sigma_mm > 0.0 ? noise(rng) : 0.0));
+      }
+    }
+    return range;
+  }
+
+  /// Signed distance of a point near the surface [mm], to first order: F / |grad F| with
+  /// F = |p / semi_axes|^2 - 1 in head axes (exact to O(d^2 / radius of curvature)).
+  double DistanceMm(const Eigen::Vector3d& point_in_tool) const {
+    const Eigen::Vector3d q = rotation.transpose() * (point_in_tool - centre_in_tool);
+    const Eigen::Vector3d scaled = q.cwiseQuotient(semi_axes_mm);
+    const Eigen::Vector3d gradient = 2.0 * scaled.cwiseQuotient(semi_axes_mm);
+    return (scaled.squaredNorm() - 1.0) / gradient.norm();
+  }
+};
+
+/// Camera poses at 300 .. 500 mm from `target`, looking at it from directions within
+/// `max_angle_rad` of `forward` (a head-worn session sees the face side), seeded.
+inline std::vector<Rigid3d> FrontPoses(const Eigen::Vector3d& target,
+                                       const Eigen::Vector3d& forward, double max_angle_rad,
+                                       int count, std::uint64_t seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const Eigen::Vector3d f = forward.normalized();
+  const Eigen::Vector3d side = f.unitOrthogonal(), up = f.cross(side);
+  std::vector<Rigid3d> poses;
+  for (int i = 0; i < count; ++i) {
+    // Uniform over the spherical cap, distance uniform in [300, 500] mm.
+    const double cos_angle = 1.0 - unit(rng) * (1.0 - std::cos(max_angle_rad));
+    const double azimuth = 2.0 * std::numbers::pi * unit(rng);
+    const double sin_angle = std::sqrt(1.0 - cos_angle * cos_angle);
+    const Eigen::Vector3d direction =
+        cos_angle * f + sin_angle * (std::cos(azimuth) * side + std::sin(azimuth) * up);
+    poses.push_back(LookAt(target + (300.0 + 200.0 * unit(rng)) * direction, target));
+  }
+  return poses;
+}
+
+/// Median of |error| [mm].
+inline double MedianAbs(std::vector<double> errors) {
+  if (errors.empty()) return std::numeric_limits<double>::infinity();
+  for (double& e : errors) e = std::abs(e);
+  std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(errors.size() / 2),
+                   errors.end());
+  return errors[errors.size() / 2];
 }
 
 /// Median of | |v - centre| - radius | over the mesh vertices [mm].

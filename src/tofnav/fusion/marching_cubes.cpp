@@ -28,22 +28,19 @@ void LoadTsdfBrick(const TsdfVolume& volume, const Eigen::Vector3i& key, double 
   const auto threshold = static_cast<float>(min_weight);
   for (int z = 0; z < kBrickSamplesSide; ++z) {
     for (int y = 0; y < kBrickSamplesSide; ++y) {
+      // x = 0..7 come from one block, x = 8 from its +x neighbour.
       const int row_bits = (y == kBrickSide ? 2 : 0) | (z == kBrickSide ? 4 : 0);
-      const int entry_row = kTsdfBlockSide * ((y % kBrickSide) + kTsdfBlockSide * (z % kBrickSide));
-      for (int x = 0; x < kBrickSamplesSide; ++x) {
-        const auto s =
-            static_cast<std::size_t>(x + kBrickSamplesSide * (y + kBrickSamplesSide * z));
-        const TsdfBlock* block =
-            blocks[static_cast<std::size_t>(row_bits | (x == kBrickSide ? 1 : 0))];
-        if (block == nullptr) {
-          samples.value[s] = 0.0f;
-          samples.valid[s] = 0;
-          continue;
-        }
-        const auto entry = static_cast<std::size_t>(entry_row + x % kBrickSide);
-        samples.value[s] = block->tsdf[entry];
-        samples.valid[s] = block->weight[entry] > threshold ? 1 : 0;
+      const auto entry = static_cast<std::size_t>(
+          kTsdfBlockSide * ((y % kBrickSide) + kTsdfBlockSide * (z % kBrickSide)));
+      const auto s = static_cast<std::size_t>(kBrickSamplesSide * (y + kBrickSamplesSide * z));
+      const TsdfBlock* block = blocks[static_cast<std::size_t>(row_bits)];
+      const TsdfBlock* next = blocks[static_cast<std::size_t>(row_bits | 1)];
+      for (std::size_t x = 0; x < kBrickSide; ++x) {
+        samples.value[s + x] = block != nullptr ? block->tsdf[entry + x] : 0.0f;
+        samples.valid[s + x] = block != nullptr && block->weight[entry + x] > threshold ? 1 : 0;
       }
+      samples.value[s + kBrickSide] = next != nullptr ? next->tsdf[entry] : 0.0f;
+      samples.valid[s + kBrickSide] = next != nullptr && next->weight[entry] > threshold ? 1 : 0;
     }
   }
 }
@@ -70,7 +67,9 @@ void LoadGridBrick(const Grid3<float>& grid, const Eigen::Vector3i& key, float i
 std::vector<Eigen::Vector3i> ActiveTiles(const Grid3<float>& grid, float iso) {
   const Eigen::Vector3i cells = (grid.dims() - Eigen::Vector3i::Ones()).cwiseMax(0);
   const Eigen::Vector3i tiles = (cells.array() + kBrickSide - 1) / kBrickSide;
-  const std::size_t count = static_cast<std::size_t>(tiles.prod());
+  const std::size_t count = static_cast<std::size_t>(tiles.x()) *
+                            static_cast<std::size_t>(tiles.y()) *
+                            static_cast<std::size_t>(tiles.z());
   std::vector<std::uint8_t> active(count, 0);
   ParallelFor(0, static_cast<std::int64_t>(count), [&](std::int64_t t) {
     const Eigen::Vector3i key(static_cast<int>(t % tiles.x()),

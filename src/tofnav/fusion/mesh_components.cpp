@@ -62,8 +62,8 @@ TriangleMesh LargestConnectedComponent(const TriangleMesh& mesh) {
     if (!mesh.vertex_colors.empty()) out.vertex_colors.push_back(mesh.vertex_colors[v]);
     if (!mesh.vertex_scalars.empty()) out.vertex_scalars.push_back(mesh.vertex_scalars[v]);
   }
-  // An isolated vertex is its own component with no triangle, so it was never the best root
-  // unless unused by every triangle; drop vertices no kept triangle uses.
+  // Every vertex in the best root's set belongs to a kept triangle: sets grow only through
+  // triangles, and best_root is the root of one.
   for (const Eigen::Vector3i& t : mesh.triangles) {
     if (sets.Find(static_cast<std::size_t>(t[0])) != best_root) continue;
     out.triangles.emplace_back(remap[static_cast<std::size_t>(t[0])],

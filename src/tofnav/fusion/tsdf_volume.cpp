@@ -115,8 +115,8 @@ std::optional<std::size_t> TsdfVolume::FindBlock(const Eigen::Vector3i& key) con
 }
 
 std::optional<TsdfVoxel> TsdfVolume::Voxel(const Eigen::Vector3i& index) const {
-  const auto floor_div = [](int a) {
-    return a >= 0 ? a / kTsdfBlockSide : -((-a + kTsdfBlockSide - 1) / kTsdfBlockSide);
+  const auto floor_div = [](int a) {  // rounds towards -inf
+    return a / kTsdfBlockSide - (a % kTsdfBlockSide < 0 ? 1 : 0);
   };
   const Eigen::Vector3i key(floor_div(index.x()), floor_div(index.y()), floor_div(index.z()));
   const std::optional<std::size_t> id = FindBlock(key);
