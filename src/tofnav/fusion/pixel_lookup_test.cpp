@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <random>
 
 #include "tofnav/fusion/fusion_test_scenes.hpp"
@@ -54,19 +56,24 @@ TEST_F(PixelLookupTest, PixelRaysProjectBackToTheirPixel) {
 }
 
 TEST_F(PixelLookupTest, AgreesWithCameraProjectBetweenPixels) {
+  // Directions up to 55 degrees off axis (r = 244 px), short of the synthetic table's fold at
+  // 262 px, where the two interpolants part by up to 0.05 px.
   std::mt19937_64 rng(3);
-  std::uniform_real_distribution<double> angle(-0.9, 0.9);  // rad, within the valid field
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
   int compared = 0;
   for (int i = 0; i < 300; ++i) {
-    const Eigen::Vector3d direction(std::tan(angle(rng)), std::tan(angle(rng)), 1.0);
-    const Eigen::Vector3d point = 350.0 * direction.normalized();
+    const double theta = 0.96 * unit(rng);
+    const double phi = 2.0 * std::numbers::pi * unit(rng);
+    const Eigen::Vector3d direction(std::sin(theta) * std::cos(phi),
+                                    std::sin(theta) * std::sin(phi), std::cos(theta));
+    const Eigen::Vector3d point = 350.0 * direction;
     const std::optional<Eigen::Vector2d> expected = camera_->Project(point);
     const std::optional<Eigen::Vector2d> actual = lookup_->Project(point);
-    if (!expected || !actual) continue;  // near the border one of them may refuse
-    EXPECT_LT((*actual - *expected).norm(), kVsCameraTolPx);
+    ASSERT_TRUE(expected.has_value() && actual.has_value()) << point.transpose();
+    EXPECT_LT((*actual - *expected).norm(), kVsCameraTolPx) << point.transpose();
     ++compared;
   }
-  EXPECT_GT(compared, 200);
+  EXPECT_EQ(compared, 300);
 }
 
 TEST_F(PixelLookupTest, RejectsPointsNoPixelSees) {
