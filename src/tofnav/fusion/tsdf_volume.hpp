@@ -32,7 +32,7 @@ enum class TsdfDepthSampling {
 struct TsdfOptions {
   double voxel_size_mm = 1.0;    // Sec. IV-B
   double truncation_vox = 4.0;   // half-width of the signed-distance band [voxels]
-  double max_weight = 128.0;     // running-average cap (dimensionless; one frame adds <= 1)
+  double max_weight = 128.0;     // running-average cap (dimensionless; a frame adds 1 by default)
   double min_range_mm = 100.0;   // pixels nearer than this are ignored
   double max_range_mm = 1000.0;  // AHAT range aliases near 1 m
   TsdfWeighting weighting = TsdfWeighting::kConstant;
