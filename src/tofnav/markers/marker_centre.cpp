@@ -28,10 +28,11 @@ double MarkerSurfaceRangeMm(double centre_range_mm, double angle_rad, double rad
   return big_r * std::cos(angle_rad) - std::sqrt(std::max(0.0, r * r - lateral * lateral));
 }
 
-double InterquartileMean(std::vector<double>& values) {
-  Require(!values.empty(), "InterquartileMean: no values");
+double TrimmedMean(std::vector<double>& values) {
+  Require(!values.empty(), "TrimmedMean: no values");
   std::sort(values.begin(), values.end());
-  const std::size_t drop = (values.size() + 1) / 4;
+  const std::size_t drop =
+      std::min(std::max<std::size_t>(1, values.size() / 8), (values.size() - 1) / 2);
   double sum = 0.0;
   for (std::size_t i = drop; i < values.size() - drop; ++i) sum += values[i];
   return sum / static_cast<double>(values.size() - 2 * drop);
@@ -53,7 +54,7 @@ double CentreRangeMm(const DetectedMarker& marker, double radius_mm, double corr
     }
     ranges.push_back(MarkerCentreRangeMm(t, s.angle_rad, radius_mm));
   }
-  return InterquartileMean(ranges);
+  return TrimmedMean(ranges);
 }
 
 double SurfaceRangeForCentreMm(const DetectedMarker& marker, double radius_mm,

@@ -20,11 +20,12 @@ double MarkerCentreRangeMm(double surface_range_mm, double angle_rad, double rad
 /// The inverse: the surface range t at angle a of a sphere centred at `centre_range_mm`.
 double MarkerSurfaceRangeMm(double centre_range_mm, double angle_rad, double radius_mm);
 
-/// Mean of the middle half of `values` (drops (n + 1) / 4 at each end; reorders them); robust to
-/// a quarter of outliers on either side and, unlike a median, not stuck to 1 mm range steps.
-double InterquartileMean(std::vector<double>& values);
+/// Mean of `values` without the max(1, n / 8) smallest and largest (reorders them): a mixed or
+/// flying pixel at either end drops, Gaussian noise keeps ~95 % efficiency, and unlike a median
+/// the result is not stuck to the 1 mm steps of AHAT ranges. n = 3 gives the median.
+double TrimmedMean(std::vector<double>& values);
 
-/// Centre range [mm] of a marker: the interquartile mean over its core samples of
+/// Centre range [mm] of a marker: the trimmed mean over its core samples of
 /// MarkerCentreRangeMm, with every sample range shifted by corrected - measured surface range.
 /// A pixel reads the mean range over its footprint, which on a convex sphere exceeds the range at
 /// its centre ray by (sigma^2 / 2) * Laplacian = (sigma^2 / 2) (2 r^2 - x^2) / (r^2 - x^2)^1.5

@@ -67,20 +67,24 @@ TEST(CentreRangeMm, IsExactOnSphereSamplesAndIgnoresAQuarterOfOutliers) {
   m.core[7].range_mm -= 25.0f;  // and one in front
   std::vector<double> ranges;
   for (const CoreSample& s : m.core) ranges.push_back(s.range_mm);
-  m.surface_range_mm = InterquartileMean(ranges);
+  m.surface_range_mm = TrimmedMean(ranges);
   EXPECT_NEAR(CentreRangeMm(m, kRadiusMm, m.surface_range_mm), kCentreMm, kFloatMm);
   EXPECT_NEAR(CentreRangeMm(m, kRadiusMm, m.surface_range_mm - 2.0), kCentreMm - 2.0, 0.01);
   const double surface = SurfaceRangeForCentreMm(m, kRadiusMm, kCentreMm - 3.0);
   EXPECT_NEAR(CentreRangeMm(m, kRadiusMm, surface), kCentreMm - 3.0, 1e-6);
 }
 
-TEST(InterquartileMean, AveragesTheMiddleHalf) {
-  std::vector<double> v = {9.0, 1.0, 2.0, 100.0, 3.0, 4.0, -50.0};  // drops 2 at each end
-  EXPECT_DOUBLE_EQ(InterquartileMean(v), 3.0);
+TEST(TrimmedMean, DropsAnEighthAtEachEnd) {
+  std::vector<double> v = {9.0, 1.0, 2.0, 100.0, 3.0, 4.0, -50.0};  // drops 1 at each end
+  EXPECT_DOUBLE_EQ(TrimmedMean(v), 3.8);
+  std::vector<double> sixteen = {-90.0, 80.0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, -70.0, 60.0};
+  EXPECT_DOUBLE_EQ(TrimmedMean(sixteen), 6.5);     // drops 2 at each end
   std::vector<double> three = {5.0, 1.0, 1000.0};  // the median
-  EXPECT_DOUBLE_EQ(InterquartileMean(three), 5.0);
+  EXPECT_DOUBLE_EQ(TrimmedMean(three), 5.0);
+  std::vector<double> two = {1.0, 2.0};
+  EXPECT_DOUBLE_EQ(TrimmedMean(two), 1.5);
   std::vector<double> empty;
-  EXPECT_THROW(InterquartileMean(empty), std::invalid_argument);
+  EXPECT_THROW(TrimmedMean(empty), std::invalid_argument);
 }
 
 }  // namespace

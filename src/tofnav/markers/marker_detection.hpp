@@ -30,7 +30,7 @@ struct MarkerDetectionOptions {
   double max_area_ratio = 2.0;
   /// Core pixels, whose ranges give the marker range: AB >= this fraction of the blob's peak
   /// (dimensionless); the AB fall-off at the rim marks mixed and grazing pixels.
-  double core_ab_fraction = 0.5;
+  double core_ab_fraction = 0.7;
   int min_range_px = 3;  // valid range pixels a marker needs (core, else the whole blob)
   void Check() const;    // throws std::invalid_argument naming the bad field
 };
@@ -46,7 +46,7 @@ struct CoreSample {
 struct DetectedMarker {
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // AB-weighted centroid (centres at integers)
   Eigen::Vector3d ray_in_ahat = Eigen::Vector3d::UnitZ();  // unit ray at `pixel` (bilinear)
-  /// Interquartile mean of the core ranges [mm]: the measured surface range, input of Eq. (2).
+  /// Trimmed mean of the core ranges [mm]: the measured surface range, input of Eq. (2).
   double surface_range_mm = 0.0;
   std::vector<CoreSample> core;  // the valid core pixels behind surface_range_mm
   double pixel_pitch_rad = 0.0;  // angle one pixel spans at the marker, 1 / sqrt(f_u f_v)

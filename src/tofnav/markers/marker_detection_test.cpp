@@ -123,7 +123,7 @@ TEST(LocateMarkers, ReturnsNothingForEmptyOrSaturatedFramesAndNeverThrows) {
   }
 }
 
-TEST(LocateMarkers, FindsTheAbWeightedCentroidAndRejectsBorderBlobs) {
+TEST(LocateMarkers, FindsTheSubPixelCentroidAndRejectsBorderBlobs) {
   constexpr double kCentroidTolPx = 0.01;  // symmetric synthetic spot
   AhatFrame frame = SyntheticFrame(100, 400);
   AddSpot(frame, 250.3, 260.7, 30000.0, 2.0);

@@ -10,8 +10,8 @@ namespace tofnav {
 
 struct PoseFilterOptions {
   /// White-acceleration process noise: lower is smoother and lags more (the jitter knob).
-  double position_accel_sigma_mm_per_s2 = 10.0;
-  double rotation_accel_sigma_rad_per_s2 = 0.1;
+  double position_accel_sigma_mm_per_s2 = 3.0;
+  double rotation_accel_sigma_rad_per_s2 = 0.05;
   /// Measurement noise of a raw pose, per axis.
   double position_sigma_mm = 0.15;
   double rotation_sigma_rad = 0.003;
