@@ -11,6 +11,7 @@
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/io/ahat_recording.hpp"
+#include "tofnav/io/describe_json.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/hl2ss_recording.hpp"
@@ -239,6 +240,7 @@ Json Describe(const std::filesystem::path& path, const DescribeOptions& options)
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (extension == ".ply" || extension == ".stl" || extension == ".obj") return MeshJson(path);
+  if (extension == ".json") return internal::DescribeJsonDocument(path);
   if (extension == ".nrrd" || extension == ".nii" || extension == ".gz" || extension == ".inv3") {
     return VolumeJson(path);
   }
