@@ -54,7 +54,7 @@ TEST(MarkerCentre, PlacesTheCentreOnTheRayAtTheCorrectedRange) {
   EXPECT_NEAR((centres[1] - m.ray_in_ahat * 500.0).norm(), 0.0, kExactMm);
 }
 
-TEST(CentreRangeMm, IsExactOnSphereSamplesAndIgnoresAQuarterOfOutliers) {
+TEST(CentreRangeMm, IsExactOnSphereSamplesAndIgnoresAnOutlierAtEachEnd) {
   constexpr double kFloatMm = 1e-3;  // samples are stored as float (~3e-5 relative)
   constexpr double kCentreMm = 512.0, kRadiusMm = 5.75;
   DetectedMarker m;
