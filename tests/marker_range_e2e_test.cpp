@@ -13,7 +13,6 @@
 namespace tofnav {
 namespace {
 
-
 // 4 x 4 sub-rays: see tracking_e2e_test.cpp (2 x 2 jittered rays add rim coverage noise).
 sim::RenderResult RenderStructure(sim::RetroCurve curve, const Rigid3d& pose, std::uint64_t seed);
 
@@ -108,7 +107,8 @@ TEST(MarkerRangeAcceptance, FrfFittedFromAStageRecordingRemovesTheRangeBias) {
       const sim::RenderResult r = RenderStructure(curve, pose, rng());
       frames.push_back({t, LocateMarkers(r.frame, testing::TestCamera()).markers});
     }
-    const StageRangeErrorResult stage = MeasureMarkerRangeErrors(frames, testing::StageStructure(0.1));
+    const StageRangeErrorResult stage =
+        MeasureMarkerRangeErrors(frames, testing::StageStructure(0.1));
     std::vector<double> reference_error;  // PnP + line position along z against the truth
     for (int f = 0; f < 160; ++f) {
       const double t = 0.1 * f;

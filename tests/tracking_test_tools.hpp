@@ -33,8 +33,8 @@ inline ToolGeometry StageStructure(double height_mm) {
   s.name = "stage";
   s.marker_type = MarkerType::kDisc;
   s.marker_diameter_mm = 10.0;
-  s.markers_in_tool = {{-60, -40, height_mm}, {5, -45, height_mm},  {55, -30, height_mm},
-                       {-45, 40, height_mm},  {10, 30, height_mm},  {62, 45, height_mm},
+  s.markers_in_tool = {{-60, -40, height_mm}, {5, -45, height_mm}, {55, -30, height_mm},
+                       {-45, 40, height_mm},  {10, 30, height_mm}, {62, 45, height_mm},
                        {-5, -5, height_mm}};
   return s;
 }

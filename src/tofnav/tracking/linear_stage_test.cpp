@@ -13,7 +13,6 @@
 namespace tofnav {
 namespace {
 
-
 TEST(MeasureMarkerRangeErrors, RecoversTheRangeErrorCurveFromRaysAndBiasedRanges) {
   constexpr double kRangeNoiseMm = 0.4, kRayNoiseRad = 2e-4;  // ~0.05 px of centroid noise
   constexpr double kMeanErrorTolMm = 0.12;  // per 100 mm bin: 3 sigma of ~100 samples
