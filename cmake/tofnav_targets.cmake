@@ -5,8 +5,14 @@ function(tofnav_target_options target)
   target_compile_features(${target} PUBLIC cxx_std_20)
   target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wconversion -Wshadow
                                            -Wnon-virtual-dtor -Wold-style-cast
+                                           # Options are set with designated initialisers; the
+                                           # fields left out keep their header defaults.
+                                           -Wno-missing-field-initializers
                                            # clang's -Wconversion adds sign conversions; GCC's not
-                                           $<$<CXX_COMPILER_ID:Clang>:-Wno-sign-conversion>)
+                                           $<$<CXX_COMPILER_ID:Clang>:-Wno-sign-conversion>
+                                           # GCC 12 -O3 false positive on string concatenation
+                                           # (GCC bug 105329)
+                                           $<$<CXX_COMPILER_ID:GNU>:-Wno-restrict>)
   if(TOFNAV_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

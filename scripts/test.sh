@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
 # The whole test suite: set-up, format check, -Werror build + ctest, ASan+UBSan build + ctest,
-# layer and file-size checks. Usage: scripts/test.sh [--quick]  (--quick: skip the sanitizer pass)
+# layer and file-size checks. The end-to-end runs (label slow) run in the optimised pass only.
+# Usage: scripts/test.sh [--quick]  (--quick: skip the sanitizer pass)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/setup.sh
@@ -21,6 +22,6 @@ if [ "${1:-}" != "--quick" ]; then
   echo "== AddressSanitizer + UndefinedBehaviorSanitizer build + ctest =="
   scripts/build.sh asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTOFNAV_WERROR=ON -DTOFNAV_SANITIZE=ON
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build/asan --output-on-failure -j2
+    ctest --test-dir build/asan --output-on-failure -j2 -LE slow
 fi
 echo "== all tests passed =="

@@ -6,5 +6,6 @@ namespace tofnav {
 
 int RunConvert(int argc, char** argv);
 int RunInfo(int argc, char** argv);
+int RunSimulate(int argc, char** argv);
 
 }  // namespace tofnav

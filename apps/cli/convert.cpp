@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav convert: re-write a recording as hl2ss RAW, hl2ss ZDEPTH or a StreamRecorder capture.
+#include "tofnav/io/convert.hpp"
+
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <filesystem>
@@ -9,7 +11,6 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
-#include "tofnav/io/convert.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 
 namespace tofnav {
@@ -42,7 +43,8 @@ int RunConvert(int argc, char** argv) {
   }
   ProgressBar progress("convert", quiet);
   options.progress = [&](std::size_t done, std::size_t total) { progress.Update(done, total); };
-  const ConvertResult result = ConvertRecording(*OpenAhatRecording(input_path), output_path, options);
+  const ConvertResult result =
+      ConvertRecording(*OpenAhatRecording(input_path), output_path, options);
   std::cout << "wrote " << result.frames_written << " frames (" << result.frames_with_pose
             << " with pose) to " << output_path.string() << "\n";
   return EXIT_SUCCESS;

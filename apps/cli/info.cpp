@@ -11,9 +11,10 @@
 namespace tofnav {
 
 int RunInfo(int argc, char** argv) {
-  CLI::App app{"Describe an AHAT recording (hl2ss .bin, StreamRecorder folder), an hl2ss calibration "
-               "(folder or Mode-2 blob) or a mesh (.ply/.stl/.obj)",
-               "tofnav info"};
+  CLI::App app{
+      "Describe an AHAT recording (hl2ss .bin, StreamRecorder folder), an hl2ss calibration "
+      "(folder or Mode-2 blob) or a mesh (.ply/.stl/.obj)",
+      "tofnav info"};
   std::filesystem::path path;
   bool json = false;
   DescribeOptions options;

@@ -18,6 +18,8 @@ struct Command {
 constexpr Command kCommands[] = {
     {"info", "describe a recording, calibration, mesh or volume", tofnav::RunInfo},
     {"convert", "re-write a recording as hl2ss RAW/ZDEPTH or StreamRecorder", tofnav::RunConvert},
+    {"simulate", "render a scenario into an hl2ss recording plus ground truth",
+     tofnav::RunSimulate},
 };
 
 void PrintUsage() {

@@ -27,7 +27,8 @@ void ProgressBar::Update(std::size_t done, std::size_t total) {
   const double rate = elapsed_s > 0.0 ? static_cast<double>(done) / elapsed_s : 0.0;
   const double left_s = rate > 0.0 ? static_cast<double>(total - done) / rate : 0.0;
   constexpr int kWidth = 30;
-  const int filled = static_cast<int>(kWidth * static_cast<double>(done) / static_cast<double>(total));
+  const int filled =
+      static_cast<int>(kWidth * static_cast<double>(done) / static_cast<double>(total));
   std::fprintf(stderr, "\r%s [%.*s%*s] %zu/%zu  %.1f/s  %.0f s left ", label_.c_str(), filled,
                "##############################", kWidth - filled, "", done, total, rate, left_s);
   std::fflush(stderr);

@@ -46,8 +46,9 @@ std::unique_ptr<AhatRecording> OpenAhatRecording(const std::filesystem::path& pa
   const std::string_view text(reinterpret_cast<const char*>(magic.data()), magic.size());
   if (text == "HL2SSV23") return OpenHl2ssRecording(path);
   if (text == "X38HL2SS" || text == "V02HL2SS") {
-    throw IoError(path, 0, "hl2ss recording from before v1.0.25 (magic " + std::string(text) +
-                               "): not supported; re-record with hl2ss >= v1.0.25 (HL2SSV23)");
+    throw IoError(path, 0,
+                  "hl2ss recording from before v1.0.25 (magic " + std::string(text) +
+                      "): not supported; re-record with hl2ss >= v1.0.25 (HL2SSV23)");
   }
   throw IoError(path, 0,
                 "not an AHAT recording: expected the hl2ss magic 'HL2SSV23' or a StreamRecorder "

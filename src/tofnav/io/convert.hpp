@@ -15,8 +15,8 @@ enum class RecordingFormat { kHl2ssRaw, kHl2ssZdepth, kStreamRecorder };
 
 struct ConvertOptions {
   RecordingFormat format = RecordingFormat::kHl2ssRaw;
-  /// Needed for StreamRecorder output (its LUT) when the input carries none (hl2ss); the
-  /// table must be sampled at s = 0.5.
+  /// Needed for StreamRecorder output (its LUT) when the input carries none (hl2ss). A table
+  /// sampled at s = 0 is re-sampled at pixel centres (the LUT's definition) through AhatCamera.
   std::optional<AhatCalibration> calibration;
   /// Called after each frame with (frames done, total).
   std::function<void(std::size_t, std::size_t)> progress;

@@ -11,6 +11,7 @@
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/io/ahat_recording.hpp"
+#include "tofnav/io/describe_json.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/hl2ss_recording.hpp"
@@ -42,8 +43,8 @@ int HistogramQuantile(const std::vector<std::uint64_t>& histogram, double q) {
 
 Json RigidJson(const Rigid3d& b_from_a) {
   const Eigen::AngleAxisd angle_axis(b_from_a.rotation);
-  return Json{{"translation_mm", {b_from_a.translation.x(), b_from_a.translation.y(),
-                                  b_from_a.translation.z()}},
+  return Json{{"translation_mm",
+               {b_from_a.translation.x(), b_from_a.translation.y(), b_from_a.translation.z()}},
               {"rotation_deg", angle_axis.angle() * kRadToDeg}};
 }
 
@@ -59,8 +60,9 @@ Json TimingJson(const AhatRecording& recording) {
   std::vector<double> intervals_s;
   intervals_s.reserve(n - 1);
   for (std::size_t i = 1; i < n; ++i) {
-    intervals_s.push_back(static_cast<double>(recording.host_ticks(i) - recording.host_ticks(i - 1)) *
-                          kSecondsPerHostTick);
+    intervals_s.push_back(
+        static_cast<double>(recording.host_ticks(i) - recording.host_ticks(i - 1)) *
+        kSecondsPerHostTick);
   }
   std::vector<double> sorted = intervals_s;
   std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
@@ -68,8 +70,8 @@ Json TimingJson(const AhatRecording& recording) {
   const double median_s = sorted[sorted.size() / 2];
   timing["median_interval_ms"] = median_s * 1e3;
   timing["median_rate_hz"] = median_s > 0.0 ? 1.0 / median_s : 0.0;
-  timing["gaps_over_2x_median"] =
-      std::count_if(intervals_s.begin(), intervals_s.end(), [&](double s) { return s > 2.0 * median_s; });
+  timing["gaps_over_2x_median"] = std::count_if(intervals_s.begin(), intervals_s.end(),
+                                                [&](double s) { return s > 2.0 * median_s; });
   return timing;
 }
 
@@ -94,18 +96,21 @@ Json FrameStatisticsJson(const AhatRecording& recording, std::size_t sample_fram
   }
   const std::uint64_t invalid = range_histogram[0];
   range_histogram[0] = 0;
-  return Json{{"sampled_frames", count},
-              {"frames_with_pose", posed},
-              {"valid_depth_fraction",
-               pixels > 0 ? static_cast<double>(pixels - invalid) / static_cast<double>(pixels) : 0.0},
-              {"range_mm", {{"min", HistogramQuantile(range_histogram, 0.0)},
-                            {"median", HistogramQuantile(range_histogram, 0.5)},
-                            {"max", HistogramQuantile(range_histogram, 1.0)}}},
-              {"ab", {{"median", HistogramQuantile(ab_histogram, 0.5)},
-                      {"p99", HistogramQuantile(ab_histogram, 0.99)},
-                      {"max", HistogramQuantile(ab_histogram, 1.0)}}},
-              {"depth_step_mm", max_step_mm},
-              {"ab_lossy", ab_lossy}};
+  return Json{
+      {"sampled_frames", count},
+      {"frames_with_pose", posed},
+      {"valid_depth_fraction",
+       pixels > 0 ? static_cast<double>(pixels - invalid) / static_cast<double>(pixels) : 0.0},
+      {"range_mm",
+       {{"min", HistogramQuantile(range_histogram, 0.0)},
+        {"median", HistogramQuantile(range_histogram, 0.5)},
+        {"max", HistogramQuantile(range_histogram, 1.0)}}},
+      {"ab",
+       {{"median", HistogramQuantile(ab_histogram, 0.5)},
+        {"p99", HistogramQuantile(ab_histogram, 0.99)},
+        {"max", HistogramQuantile(ab_histogram, 1.0)}}},
+      {"depth_step_mm", max_step_mm},
+      {"ab_lossy", ab_lossy}};
 }
 
 Json CalibrationJson(const AhatCalibration& calibration) {
@@ -156,14 +161,17 @@ Json RecordingJson(const AhatRecording& recording, const DescribeOptions& option
                                   {"other_entries", capture->report().other_entries},
                                   {"unposed_frames", capture->report().unposed_frames}};
   }
-  if (recording.frame_count() > 0) out["frames"] = FrameStatisticsJson(recording, options.sample_frames);
-  if (const auto calibration = recording.calibration()) out["calibration"] = CalibrationJson(*calibration);
+  if (recording.frame_count() > 0)
+    out["frames"] = FrameStatisticsJson(recording, options.sample_frames);
+  if (const auto calibration = recording.calibration())
+    out["calibration"] = CalibrationJson(*calibration);
   return out;
 }
 
 Json MeshJson(const std::filesystem::path& path) {
   const TriangleMesh mesh = ReadMesh(path);
-  Json out{{"kind", "mesh"}, {"vertices", mesh.vertices.size()}, {"triangles", mesh.triangles.size()}};
+  Json out{
+      {"kind", "mesh"}, {"vertices", mesh.vertices.size()}, {"triangles", mesh.triangles.size()}};
   if (!mesh.vertices.empty()) {
     Eigen::Vector3d lo = mesh.vertices.front();
     Eigen::Vector3d hi = lo;
@@ -213,7 +221,8 @@ Json Describe(const std::filesystem::path& path, const DescribeOptions& options)
     if (std::filesystem::exists(path / kStreamRecorderTar)) {
       return RecordingJson(*OpenAhatRecording(path), options);
     }
-    if (std::filesystem::exists(path / "rm_depth_ahat") || std::filesystem::exists(path / "uv2xy.bin")) {
+    if (std::filesystem::exists(path / "rm_depth_ahat") ||
+        std::filesystem::exists(path / "uv2xy.bin")) {
       Json out{{"kind", "calibration"}, {"format", "hl2ss calibration folder"}};
       out.update(CalibrationJson(ReadHl2ssCalibration(path)));
       return out;
@@ -223,13 +232,15 @@ Json Describe(const std::filesystem::path& path, const DescribeOptions& options)
     } catch (const IoError& e) {
       throw IoError(path, std::nullopt,
                     "expected a StreamRecorder capture (Depth AHaT.tar), an hl2ss calibration "
-                    "folder (rm_depth_ahat/) or a DICOM series (" + std::string(e.what()) + ")");
+                    "folder (rm_depth_ahat/) or a DICOM series (" +
+                        std::string(e.what()) + ")");
     }
   }
   std::string extension = path.extension().string();
   std::transform(extension.begin(), extension.end(), extension.begin(),
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   if (extension == ".ply" || extension == ".stl" || extension == ".obj") return MeshJson(path);
+  if (extension == ".json") return internal::DescribeJsonDocument(path);
   if (extension == ".nrrd" || extension == ".nii" || extension == ".gz" || extension == ".inv3") {
     return VolumeJson(path);
   }

@@ -14,7 +14,8 @@ struct DescribeOptions {
 };
 
 /// Describes `path` (an hl2ss recording, hl2ss calibration folder or Mode-2 blob, StreamRecorder
-/// capture folder, or mesh) as a JSON object: {"kind": ..., ...}. IoError when it is none of them.
+/// capture folder, mesh, volume, simulation truth.json or Slicer markups) as a JSON object:
+/// {"kind": ..., ...}. IoError when it is none of them.
 std::string DescribeAsJson(const std::filesystem::path& path, const DescribeOptions& options = {});
 /// The same facts as indented "key: value" lines for a terminal.
 std::string DescribeAsText(const std::filesystem::path& path, const DescribeOptions& options = {});

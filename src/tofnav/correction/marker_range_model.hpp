@@ -1,0 +1,49 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// f_rf, the retro-reflector range error (Eq. 1), and the marker range correction (Eq. 2).
+#pragma once
+
+#include <Eigen/Core>
+#include <span>
+#include <vector>
+
+#include "tofnav/correction/smoothing_spline.hpp"
+#include "tofnav/markers/marker_detection.hpp"
+#include "tofnav/markers/marker_range_sample.hpp"
+
+namespace tofnav {
+
+/// f_rf(d): range error [mm] of retro-reflective material at measured surface range d [mm]
+/// (Eq. 1), a cubic smoothing spline in d (mm), linear beyond its knots. The empty model is 0
+/// (no correction: STTAR behaviour).
+struct MarkerRangeModel {
+  CubicSpline bias_mm;       // x: measured surface range [mm]; value: f_rf [mm]
+  double smoothing_p = 1.0;  // csaps p of the fit, with d in mm (a record; evaluation ignores it)
+  double BiasMm(double range_mm) const { return bias_mm.Evaluate(range_mm); }
+  bool empty() const { return bias_mm.x.empty(); }
+  void Check() const { bias_mm.Check(); }
+};
+
+struct MarkerRangeFitResult {
+  MarkerRangeModel model;
+  SmoothingSplineResult fit;     // p, effective degrees of freedom, GCV score, RSS
+  double rms_residual_mm = 0.0;  // over the input samples (duplicates not merged)
+};
+
+/// Eq. (1): f_rf = argmin p sum w (delta - f(d))^2 + (1 - p) int f''^2 (csaps semantics; p by
+/// GCV unless options.smoothing_p is given). Throws std::invalid_argument on empty or
+/// non-finite samples or weights <= 0.
+MarkerRangeFitResult FitMarkerRangeModel(std::span<const MarkerRangeSample> samples,
+                                         const SmoothingSplineOptions& options = {});
+
+/// Eq. (2) on a range: d' = d - f_rf(d) [mm].
+double CorrectMarkerRange(double surface_range_mm, const MarkerRangeModel& model);
+/// Eq. (2) on a point: M' = M (|M| - f_rf(|M|)) / |M| (the origin stays put).
+Eigen::Vector3d CorrectMarkerPoint(const Eigen::Vector3d& point_in_ahat,
+                                   const MarkerRangeModel& model);
+/// Eq. (2) on detections: every surface_range_mm and core sample shifted by -f_rf(surface
+/// range), applied before the sphere radius is added (MarkerCentre). f_rf varies by < 0.05 mm
+/// over a marker's few-mm range spread, so one shift per marker suffices.
+std::vector<DetectedMarker> CorrectMarkerRanges(std::vector<DetectedMarker> markers,
+                                                const MarkerRangeModel& model);
+
+}  // namespace tofnav

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Eq. (1) fit on the simulator's f_rf curves and Eq. (2) on ranges, points and detections.
+#include "tofnav/correction/marker_range_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "tofnav/markers/marker_centre.hpp"
+#include "tofnav/sim/material.hpp"
+
+namespace tofnav {
+namespace {
+
+constexpr double kNoiseMm = 0.4;      // per-marker range noise of a stage recording
+constexpr double kCurveTolMm = 0.15;  // max |fit - truth| over 300-700 mm, 2000 noisy samples
+
+TEST(FitMarkerRangeModel, RecoversEverySimulatorCurveWithinATenthOfAMillimetre) {
+  for (const sim::RetroCurve curve : {sim::RetroCurve::kLinear, sim::RetroCurve::kQuadratic,
+                                      sim::RetroCurve::kSigmoid, sim::RetroCurve::kWavy}) {
+    std::mt19937_64 rng(static_cast<std::uint64_t>(curve));
+    std::normal_distribution<double> noise(0.0, kNoiseMm);
+    std::uniform_real_distribution<double> range(280.0, 720.0);
+    std::vector<MarkerRangeSample> samples;
+    for (int i = 0; i < 2000; ++i) {
+      const double d_true = range(rng);
+      const double d = std::round(d_true + sim::RetroRangeBiasMm(curve, 4.0, d_true) + noise(rng));
+      samples.push_back({d, d - d_true, 1.0});
+    }
+    const MarkerRangeFitResult r = FitMarkerRangeModel(samples);
+    double worst = 0.0;
+    for (double d_true = 300.0; d_true <= 700.0; d_true += 2.0) {
+      const double d = d_true + sim::RetroRangeBiasMm(curve, 4.0, d_true);
+      worst = std::max(worst, std::abs(CorrectMarkerRange(d, r.model) - d_true));
+    }
+    EXPECT_LT(worst, kCurveTolMm) << static_cast<int>(curve);
+    EXPECT_NEAR(r.rms_residual_mm, std::sqrt(kNoiseMm * kNoiseMm + 1.0 / 12.0), 0.05);
+  }
+}
+
+TEST(CorrectMarkerRange, AppliesEquationTwoToRangesPointsAndDetections) {
+  MarkerRangeModel model;
+  model.bias_mm = {{300.0, 700.0}, {0.0, 4.0}, {0.0, 0.0}};  // 0.01 mm per mm
+  EXPECT_DOUBLE_EQ(CorrectMarkerRange(500.0, model), 498.0);
+  EXPECT_DOUBLE_EQ(CorrectMarkerRange(800.0, model), 795.0);  // linear extension
+  const Eigen::Vector3d m(120.0, -90.0, 480.0);
+  const Eigen::Vector3d corrected = CorrectMarkerPoint(m, model);
+  EXPECT_NEAR(corrected.norm(), m.norm() - model.BiasMm(m.norm()), 1e-12);
+  EXPECT_NEAR(corrected.normalized().dot(m.normalized()), 1.0, 1e-15);
+  EXPECT_TRUE(CorrectMarkerPoint(Eigen::Vector3d::Zero(), model).isZero());
+  EXPECT_DOUBLE_EQ(CorrectMarkerRange(432.0, MarkerRangeModel{}), 432.0);  // empty: identity
+
+  DetectedMarker detected;
+  detected.surface_range_mm = 600.0;
+  detected.core = {{599.0f, 0.001f}, {600.0f, 0.0f}, {601.0f, 0.002f}};
+  detected.pixel_pitch_rad = 1.0 / 254.0;
+  const std::vector<DetectedMarker> out = CorrectMarkerRanges({detected}, model);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_DOUBLE_EQ(out[0].surface_range_mm, 597.0);
+  EXPECT_FLOAT_EQ(out[0].core[0].range_mm, 596.0f);
+  // The centre moves by the correction (the radius is added after it), up to the change of the
+  // sphere footprint term with range (~2 t dt / t^2 of a 0.05 mm term).
+  constexpr double kFootprintTolMm = 2e-3;
+  EXPECT_NEAR(CentreRangeMm(out[0], 5.0, out[0].surface_range_mm),
+              CentreRangeMm(detected, 5.0, detected.surface_range_mm) - 3.0, kFootprintTolMm);
+}
+
+}  // namespace
+}  // namespace tofnav

@@ -1,0 +1,76 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Connected components of a triangle mesh over shared vertices (union-find).
+#include "tofnav/fusion/mesh_components.hpp"
+
+#include <numeric>
+#include <vector>
+
+namespace tofnav {
+namespace {
+
+/// Union-find with path halving and union by size.
+class DisjointSets {
+ public:
+  explicit DisjointSets(std::size_t n) : parent_(n), size_(n, 1) {
+    std::iota(parent_.begin(), parent_.end(), std::size_t{0});
+  }
+  std::size_t Find(std::size_t i) {
+    while (parent_[i] != i) {
+      parent_[i] = parent_[parent_[i]];
+      i = parent_[i];
+    }
+    return i;
+  }
+  void Union(std::size_t a, std::size_t b) {
+    a = Find(a);
+    b = Find(b);
+    if (a == b) return;
+    if (size_[a] < size_[b]) std::swap(a, b);
+    parent_[b] = a;
+    size_[a] += size_[b];
+  }
+
+ private:
+  std::vector<std::size_t> parent_;
+  std::vector<std::size_t> size_;
+};
+
+}  // namespace
+
+TriangleMesh LargestConnectedComponent(const TriangleMesh& mesh) {
+  mesh.CheckConsistent();
+  if (mesh.triangles.empty()) return {};
+  DisjointSets sets(mesh.vertices.size());
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    sets.Union(static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]));
+    sets.Union(static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[2]));
+  }
+  // Triangles per component root; the first triangle met decides ties.
+  std::vector<std::size_t> triangles_of(mesh.vertices.size(), 0);
+  std::size_t best_root = sets.Find(static_cast<std::size_t>(mesh.triangles.front()[0]));
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    const std::size_t root = sets.Find(static_cast<std::size_t>(t[0]));
+    if (++triangles_of[root] > triangles_of[best_root]) best_root = root;
+  }
+  TriangleMesh out;
+  std::vector<int> remap(mesh.vertices.size(), -1);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (sets.Find(v) != best_root) continue;
+    remap[v] = static_cast<int>(out.vertices.size());
+    out.vertices.push_back(mesh.vertices[v]);
+    if (!mesh.vertex_normals.empty()) out.vertex_normals.push_back(mesh.vertex_normals[v]);
+    if (!mesh.vertex_colors.empty()) out.vertex_colors.push_back(mesh.vertex_colors[v]);
+    if (!mesh.vertex_scalars.empty()) out.vertex_scalars.push_back(mesh.vertex_scalars[v]);
+  }
+  // Every vertex in the best root's set belongs to a kept triangle: sets grow only through
+  // triangles, and best_root is the root of one.
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    if (sets.Find(static_cast<std::size_t>(t[0])) != best_root) continue;
+    out.triangles.emplace_back(remap[static_cast<std::size_t>(t[0])],
+                               remap[static_cast<std::size_t>(t[1])],
+                               remap[static_cast<std::size_t>(t[2])]);
+  }
+  return out;
+}
+
+}  // namespace tofnav

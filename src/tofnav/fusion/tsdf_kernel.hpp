@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Internal to TsdfVolume: the voxel-row update of the TSDF kernel, scalar and AVX2.
+#pragma once
+
+#include <cstdint>
+
+#include "tofnav/fusion/pixel_lookup.hpp"
+
+namespace tofnav {
+
+/// Everything the voxel loop reads, as local values: the compiler then keeps them in registers
+/// instead of reloading members after every store into the block.
+struct KernelInputs {
+  PixelLookup::Table lookup;
+  const float* range_mm;  // cleaned frame, 0 = unusable
+  const float* weight;    // per pixel, or nullptr for all 1
+  int width, height;
+  float truncation_mm, inverse_truncation, max_step_mm, max_weight;
+};
+
+/// Voxels x in [x_lo, x_hi) of one 8-voxel row of a block: voxel x is centred at
+/// (px, py, pz) + x (sx, sy, sz) in `ahat` and, when the row is interpolated, seen at pixel
+/// position (u, v) + x (du, dv).
+struct KernelRow {
+  float px, py, pz, sx, sy, sz;
+  float u, v, du, dv;
+  int x_lo, x_hi;
+};
+
+/// Curless & Levoy (1996) running average over one row of `tsdf` and `weight` (8 entries each);
+/// returns the voxels updated. `interpolated`: use the row's pixel positions instead of
+/// projecting each voxel through the lookup table.
+std::int64_t UpdateRow(const KernelInputs& in, const KernelRow& row, bool interpolated,
+                       bool bilinear, float* tsdf, float* weight);
+
+/// True when this CPU runs UpdateInterpolatedRowAvx2.
+bool CpuHasAvx2();
+/// UpdateRow for interpolated rows, eight voxels at once; the same floating-point operations in
+/// the same order as the scalar loop (no fused multiply-add), so the results are bit-identical.
+std::int64_t UpdateInterpolatedRowAvx2(const KernelInputs& in, const KernelRow& row, bool bilinear,
+                                       float* tsdf, float* weight);
+
+}  // namespace tofnav

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: BSD-3-Clause
+#include "tofnav/fusion/tsdf_kernel.hpp"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstring>
+#include <random>
+#include <vector>
+
+#include "tofnav/fusion/fusion_test_scenes.hpp"
+
+namespace tofnav {
+namespace {
+
+TEST(TsdfKernel, Avx2RowMatchesScalarRowBitForBit) {
+  if (!CpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU";
+  // A random range image with holes and jumps, random rows around it, random prior values:
+  // every branch of the row update (unseen, occluded, jump, truncated, weighted) is taken.
+  constexpr int kWidth = 40, kHeight = 30;
+  std::mt19937_64 rng(23);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<float> range(kWidth * kHeight), pixel_weight(kWidth * kHeight);
+  for (std::size_t i = 0; i < range.size(); ++i) {
+    range[i] = unit(rng) < 0.1f ? 0.0f : 300.0f + 20.0f * unit(rng);
+    pixel_weight[i] = unit(rng) < 0.1f ? 0.0f : unit(rng);
+  }
+  const AhatCamera camera(SmallFisheyeCalibration(16));
+  const PixelLookup lookup(camera);
+  int compared = 0, updated = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const bool weighted = trial % 2 == 1, bilinear = trial % 4 < 2;
+    const KernelInputs in{lookup.table(), range.data(), weighted ? pixel_weight.data() : nullptr,
+                          kWidth,         kHeight,      4.0f,
+                          0.25f,          10.0f,        20.0f};
+    // Pixel positions stay inside the image over the row's eight voxels.
+    const float u = 4.0f + 26.0f * unit(rng), v = 4.0f + 18.0f * unit(rng);
+    KernelRow row{unit(rng),
+                  unit(rng),
+                  290.0f + 30.0f * unit(rng),
+                  0.8f * unit(rng),
+                  0.3f * unit(rng),
+                  1.0f - 2.0f * unit(rng),
+                  u,
+                  v,
+                  unit(rng) - 0.5f,
+                  unit(rng) - 0.5f,
+                  trial % 5 == 0 ? 2 : 0,
+                  trial % 7 == 0 ? 5 : 8};
+    std::array<float, 8> tsdf_a, weight_a;
+    for (std::size_t k = 0; k < 8; ++k) {
+      tsdf_a[k] = 2.0f * unit(rng) - 1.0f;
+      weight_a[k] = unit(rng) < 0.3f ? 0.0f : 25.0f * unit(rng);
+    }
+    std::array<float, 8> tsdf_b = tsdf_a, weight_b = weight_a;
+    const std::int64_t n_scalar =
+        UpdateRow(in, row, true, bilinear, tsdf_a.data(), weight_a.data());
+    const std::int64_t n_simd =
+        UpdateInterpolatedRowAvx2(in, row, bilinear, tsdf_b.data(), weight_b.data());
+    ASSERT_EQ(n_scalar, n_simd) << trial;
+    ASSERT_EQ(std::memcmp(tsdf_a.data(), tsdf_b.data(), sizeof(tsdf_a)), 0) << trial;
+    ASSERT_EQ(std::memcmp(weight_a.data(), weight_b.data(), sizeof(weight_a)), 0) << trial;
+    updated += static_cast<int>(n_scalar);
+    ++compared;
+  }
+  EXPECT_EQ(compared, 400);
+  EXPECT_GT(updated, 300);  // enough voxels took the update path, not only the skips
+}
+
+}  // namespace
+}  // namespace tofnav

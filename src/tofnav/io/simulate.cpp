@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The simulate composition: pre-operative files, then the frame loop writing three streams.
+#include "tofnav/io/simulate.hpp"
+
+#include <bit>
+#include <cstring>
+#include <utility>
+
+#include "tofnav/core/require.hpp"
+#include "tofnav/io/file.hpp"
+#include "tofnav/io/hl2ss_calibration.hpp"
+#include "tofnav/io/mesh_io.hpp"
+#include "tofnav/io/plan_markups.hpp"
+#include "tofnav/io/truth_json.hpp"
+#include "tofnav/io/volume_io.hpp"
+#include "tofnav/sim/random.hpp"
+#include "tofnav/sim/simulator.hpp"
+
+namespace tofnav {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "truth_range_f32.bin is little-endian");
+
+constexpr const char* kRecordingName = "rm_depth_ahat.bin";
+constexpr const char* kCalibrationName = "calibration/rm_depth_ahat";
+constexpr const char* kTruthName = "truth.json";
+constexpr const char* kTruthRangeName = "truth_range_f32.bin";
+constexpr const char* kCtName = "ct.nrrd";
+constexpr const char* kSkinName = "skin_truth.ply";
+constexpr const char* kPlanName = "plan.mrk.json";
+
+// ct.nrrd, skin_truth.ply and plan.mrk.json of the scenario's patient.
+void WritePatientFiles(const sim::Scenario& s, const std::filesystem::path& out_dir,
+                       std::vector<std::pair<std::string, std::string>>& files) {
+  const sim::Patient& patient = *s.patient;
+  const TriangleMesh& skin = s.scene.objects[static_cast<std::size_t>(patient.object)].mesh;
+  if (patient.write_ct) {
+    sim::SyntheticCt ct = sim::SynthesizeHeadCt(skin, patient.anatomy, patient.ct,
+                                                sim::StreamSeed(s.seed, sim::SeedStream::kCtNoise));
+    CtVolume volume;
+    volume.dims = ct.dims;
+    volume.values = std::move(ct.values_hu);
+    volume.image_from_ijk = ct.image_from_ijk;
+    volume.modality = "CT";
+    volume.name = "tofnav synthetic CT (" + patient.head_source + ")";
+    WriteVolume(out_dir / kCtName, volume, {.sample_type = VolumeSampleType::kInt16});
+    files.emplace_back("ct", kCtName);
+  }
+  WriteMesh(out_dir / kSkinName, skin);
+  files.emplace_back("skin", kSkinName);
+  WriteTrajectoryMarkups(out_dir / kPlanName, patient.plan);
+  files.emplace_back("plan", kPlanName);
+}
+
+}  // namespace
+
+void SimulateOptions::Check() const {
+  Require(!frames || *frames >= 1, "SimulateOptions.frames must be >= 1");
+  Require(profile == Hl2ssDepthProfile::kSame || profile == Hl2ssDepthProfile::kZdepth,
+          "SimulateOptions.profile must be SAME (raw) or ZDEPTH");
+}
+
+SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path& out_dir,
+                             const SimulateOptions& options) {
+  options.Check();
+  if (options.frames) scenario.frames = *options.frames;
+  if (options.seed) scenario.seed = *options.seed;
+  scenario.Check();
+  std::filesystem::create_directories(out_dir);
+
+  sim::Simulator simulator(scenario, options.camera);
+  WriteHl2ssCalibration(out_dir / "calibration", simulator.calibration());
+  TruthRunInfo info;
+  info.profile = options.profile == Hl2ssDepthProfile::kZdepth ? "zdepth" : "raw";
+  info.files = {{"recording", kRecordingName}, {"calibration", kCalibrationName}};
+  if (options.truth_depth) info.files.emplace_back("truth_range", kTruthRangeName);
+  if (scenario.patient) WritePatientFiles(scenario, out_dir, info.files);
+
+  Hl2ssWriterOptions writer_options;
+  writer_options.profile_z = options.profile;
+  Hl2ssRecordingWriter recording(out_dir / kRecordingName, writer_options);
+  SimulationTruthWriter truth(out_dir / kTruthName, scenario, info);
+  std::optional<AtomicFileWriter> truth_range;
+  if (options.truth_depth) truth_range.emplace(out_dir / kTruthRangeName);
+
+  SimulateResult result;
+  const auto total = static_cast<std::size_t>(scenario.frames);
+  std::uint64_t first_ticks = 0, last_ticks = 0;
+  while (!simulator.done()) {
+    const sim::SimulatedFrame frame = simulator.Next();
+    recording.Append(frame.render.frame);
+    truth.Append(frame);
+    if (truth_range) {
+      const std::span<const float> range = frame.render.truth_range_mm.pixels();
+      truth_range->Write({reinterpret_cast<const std::uint8_t*>(range.data()), range.size_bytes()});
+    }
+    if (frame.index == 0) first_ticks = frame.render.frame.host_ticks;
+    last_ticks = frame.render.frame.host_ticks;
+    ++result.frames;
+    if (options.progress) options.progress(static_cast<std::size_t>(result.frames), total);
+  }
+  result.dropped_slots = simulator.dropped_slots();
+  recording.Close();
+  truth.Close(result.dropped_slots);
+  if (truth_range) truth_range->Commit();
+  result.duration_s = static_cast<double>(last_ticks - first_ticks) * kSecondsPerHostTick;
+  for (const auto& [role, name] : info.files) result.files.emplace_back(name);
+  result.files.emplace_back(kTruthName);
+  return result;
+}
+
+}  // namespace tofnav

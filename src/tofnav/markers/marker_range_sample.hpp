@@ -1,0 +1,15 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// One observation of the retro-reflector range error, the data of Eq. (1).
+#pragma once
+
+namespace tofnav {
+
+/// delta = d_measured - d_true at the measured surface range d (tof_physics.md 5.3). Produced by
+/// MeasureMarkerRangeErrors (tracking/), consumed by FitMarkerRangeModel (correction/).
+struct MarkerRangeSample {
+  double range_mm = 0.0;  // measured surface range d
+  double error_mm = 0.0;  // delta
+  double weight = 1.0;    // inverse variance, relative
+};
+
+}  // namespace tofnav

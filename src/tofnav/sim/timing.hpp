@@ -1,0 +1,52 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Frame timing of the simulated AHAT stream (45 Hz host ticks, frame drops) and the SLAM jitter
+// of the rig poses the headset reports.
+#pragma once
+
+#include <cstdint>
+#include <random>
+
+#include "tofnav/core/rigid3d.hpp"
+
+namespace tofnav::sim {
+
+/// Frame slots are the nominal frame times; a dropped slot produces no frame.
+struct FrameTimingOptions {
+  double rate_hz = 45.0;
+  /// Host ticks (100 ns, QPC since boot) of slot 0; default one hour after boot.
+  std::uint64_t start_ticks = 36'000'000'000;
+  double drop_probability = 0.0;  // chance that a kept slot is followed by a dropped one
+  double mean_drop_slots = 1.0;   // mean length of a run of dropped slots (geometric, >= 1)
+  void Check() const;             // throws PreconditionError naming the bad field
+};
+
+/// Host ticks of slot `slot`: start_ticks + round(slot * 1e7 / rate_hz).
+std::uint64_t SlotTicks(const FrameTimingOptions& options, std::int64_t slot);
+
+/// Walks the slots and skips the dropped ones. Slot 0 is always kept.
+class FrameClock {
+ public:
+  FrameClock(const FrameTimingOptions& options, std::uint64_t seed);
+  /// The next kept slot (0 on the first call).
+  std::int64_t NextSlot();
+  std::int64_t dropped_slots() const { return dropped_; }
+
+ private:
+  FrameTimingOptions options_;
+  std::mt19937_64 rng_;
+  std::int64_t next_ = 0;
+  std::int64_t dropped_ = 0;
+};
+
+/// Error of the headset's reported rig pose (spatial tracking), white per frame.
+struct SlamJitterOptions {
+  double translation_sigma_mm = 0.3;  // per axis
+  double rotation_sigma_rad = 3e-4;   // per axis of the rotation vector (about 0.02 deg)
+  void Check() const;
+};
+
+/// The reported pose: world_from_rig * delta, delta a small random motion in the rig frame.
+Rigid3d JitterPose(const Rigid3d& world_from_rig, const SlamJitterOptions& options,
+                   std::mt19937_64& rng);
+
+}  // namespace tofnav::sim

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Range errors from a linear-stage recording: match, PnP on rays, line fit, delta (Eq. 1 data).
+#include "tofnav/tracking/linear_stage.hpp"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <optional>
+
+#include "tofnav/core/require.hpp"
+#include "tofnav/markers/marker_centre.hpp"
+
+namespace tofnav {
+namespace {
+
+struct PosedFrame {
+  std::size_t frame = 0;
+  std::vector<int> detection;  // per structure marker, -1 unseen
+  Rigid3d ahat_from_structure;
+};
+
+std::optional<PosedFrame> PoseFrame(const StageFrame& frame, std::size_t index,
+                                    const ToolGeometry& structure,
+                                    const StageRangeErrorOptions& options) {
+  const Points3d centres = MarkerCentres(frame.markers, structure.SurfaceToCentreMm());
+  const ToolPoseResult matched = EstimateToolPose(centres, structure, options.pose);
+  if (!matched.ahat_from_tool) return std::nullopt;
+  Points3d markers, rays;
+  for (std::size_t k = 0; k < matched.marker_detection.size(); ++k) {
+    const int d = matched.marker_detection[k];
+    if (d < 0) continue;
+    markers.push_back(structure.markers_in_tool[k]);
+    rays.push_back(frame.markers[static_cast<std::size_t>(d)].ray_in_ahat);
+  }
+  const RayPoseResult pnp =
+      EstimatePoseFromRays(markers, rays, *matched.ahat_from_tool, options.ray_pose);
+  if (!pnp.converged) return std::nullopt;
+  return PosedFrame{index, matched.marker_detection, pnp.ahat_from_tool};
+}
+
+// Chordal mean of unit quaternions: the dominant eigenvector of sum q q^T.
+Eigen::Quaterniond MeanRotation(const std::vector<PosedFrame>& posed) {
+  Eigen::Matrix4d sum = Eigen::Matrix4d::Zero();
+  for (const PosedFrame& p : posed) {
+    const Eigen::Vector4d q = p.ahat_from_structure.rotation.coeffs();
+    sum += q * q.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(sum);
+  return Eigen::Quaterniond(Eigen::Vector4d(eig.eigenvectors().col(3))).normalized();
+}
+
+}  // namespace
+
+void StageRangeErrorOptions::Check() const {
+  pose.Check();
+  ray_pose.Check();
+  Require(max_line_residual_mm > 0.0, "StageRangeErrorOptions::max_line_residual_mm must be > 0");
+  Require(min_frames >= 2, "StageRangeErrorOptions::min_frames must be >= 2");
+}
+
+StageRangeErrorResult MeasureMarkerRangeErrors(std::span<const StageFrame> frames,
+                                               const ToolGeometry& structure,
+                                               const StageRangeErrorOptions& options) {
+  options.Check();
+  structure.Check();
+  std::vector<PosedFrame> posed;
+  for (std::size_t f = 0; f < frames.size(); ++f) {
+    if (std::optional<PosedFrame> p = PoseFrame(frames[f], f, structure, options))
+      posed.push_back(*p);
+  }
+  Require(static_cast<int>(posed.size()) >= options.min_frames,
+          "MeasureMarkerRangeErrors: only " + std::to_string(posed.size()) + " frames give a pose");
+  StageRangeErrorResult result;
+  // Line fit: x(t) = o + v t (constant speed) or the principal line through the positions.
+  const auto n = static_cast<Eigen::Index>(posed.size());
+  Eigen::MatrixXd design(n, 2);
+  Eigen::MatrixXd positions(n, 3);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const PosedFrame& p = posed[static_cast<std::size_t>(i)];
+    design(i, 0) = 1.0;
+    design(i, 1) = frames[p.frame].timestamp_s;
+    positions.row(i) = p.ahat_from_structure.translation.transpose();
+  }
+  std::vector<Eigen::Vector3d> on_line(posed.size());
+  if (options.constant_speed) {
+    const Eigen::MatrixXd coefficients = design.colPivHouseholderQr().solve(positions);
+    result.line_origin_mm = coefficients.row(0).transpose();
+    result.line_velocity_mm_per_s = coefficients.row(1).transpose();
+    for (Eigen::Index i = 0; i < n; ++i) {
+      on_line[static_cast<std::size_t>(i)] =
+          result.line_origin_mm + result.line_velocity_mm_per_s * design(i, 1);
+    }
+  } else {
+    const Eigen::Vector3d mean = positions.colwise().mean().transpose();
+    const Eigen::MatrixXd centred = positions.rowwise() - mean.transpose();
+    const Eigen::Vector3d direction =
+        Eigen::JacobiSVD<Eigen::MatrixXd>(centred, Eigen::ComputeThinV).matrixV().col(0);
+    result.line_origin_mm = mean;
+    result.line_velocity_mm_per_s = direction;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      on_line[static_cast<std::size_t>(i)] =
+          mean + direction * direction.dot(centred.row(i).transpose());
+    }
+  }
+  result.ahat_from_structure_rotation = MeanRotation(posed);
+  double sum2 = 0.0;
+  for (std::size_t i = 0; i < posed.size(); ++i) {
+    sum2 += (posed[i].ahat_from_structure.translation - on_line[i]).squaredNorm();
+  }
+  result.line_rms_mm = std::sqrt(sum2 / static_cast<double>(posed.size()));
+  // Eq. (1) data: delta = measured surface range - the surface range of the reference centre.
+  const double radius = structure.SurfaceToCentreMm();
+  for (std::size_t i = 0; i < posed.size(); ++i) {
+    if ((posed[i].ahat_from_structure.translation - on_line[i]).norm() >
+        options.max_line_residual_mm) {
+      continue;
+    }
+    ++result.frames_used;
+    const Rigid3d reference(result.ahat_from_structure_rotation, on_line[i]);
+    const StageFrame& frame = frames[posed[i].frame];
+    for (std::size_t k = 0; k < posed[i].detection.size(); ++k) {
+      const int d = posed[i].detection[k];
+      if (d < 0) continue;
+      const DetectedMarker& marker = frame.markers[static_cast<std::size_t>(d)];
+      const double true_centre_mm = (reference * structure.markers_in_tool[k]).norm();
+      const double true_surface_mm = SurfaceRangeForCentreMm(marker, radius, true_centre_mm);
+      result.samples.push_back(
+          {marker.surface_range_mm, marker.surface_range_mm - true_surface_mm, 1.0});
+      result.sample_frame.push_back(static_cast<int>(posed[i].frame));
+      result.sample_marker.push_back(static_cast<int>(k));
+    }
+  }
+  return result;
+}
+
+}  // namespace tofnav

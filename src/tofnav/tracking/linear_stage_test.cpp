@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Stage range errors from synthetic disc detections with a known f_rf (the rendered case is in
+// tests/tracking_e2e_test.cpp).
+#include "tofnav/tracking/linear_stage.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "tofnav/sim/material.hpp"
+#include "tracking_test_tools.hpp"
+
+namespace tofnav {
+namespace {
+
+// The paper's planar structure: flat Phi 10 mm stickers.
+ToolGeometry Structure() {
+  ToolGeometry s;
+  s.name = "stage";
+  s.marker_type = MarkerType::kDisc;
+  s.marker_diameter_mm = 10.0;
+  s.markers_in_tool = {{-60, -40, 0}, {5, -45, 0}, {55, -30, 0}, {-45, 40, 0},
+                       {10, 30, 0},   {62, 45, 0}, {-5, -5, 0}};
+  return s;
+}
+
+TEST(MeasureMarkerRangeErrors, RecoversTheRangeErrorCurveFromRaysAndBiasedRanges) {
+  constexpr double kRangeNoiseMm = 0.4, kRayNoiseRad = 2e-4;  // ~0.05 px of centroid noise
+  constexpr double kMeanErrorTolMm = 0.12;  // per 100 mm bin: 3 sigma of ~100 samples
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> range_noise(0.0, kRangeNoiseMm), ray_noise(0.0, kRayNoiseRad);
+  const ToolGeometry structure = Structure();
+  std::vector<StageFrame> frames;
+  for (int f = 0; f < 60; ++f) {
+    const double t = 0.2 * f;  // the stage moves 7 mm per frame away from the camera
+    const Rigid3d pose = testing::FacingToolPose({8.0, -6.0, 290.0 + 35.0 * t}, 0.05, 0.1);
+    StageFrame frame{t, {}};
+    for (const Eigen::Vector3d& m : structure.markers_in_tool) {
+      const Eigen::Vector3d c = pose * m;
+      DetectedMarker d;
+      d.ray_in_ahat =
+          (c.normalized() + Eigen::Vector3d(ray_noise(rng), ray_noise(rng), 0.0)).normalized();
+      d.surface_range_mm = c.norm() +
+                           sim::RetroRangeBiasMm(sim::RetroCurve::kSigmoid, 4.0, c.norm()) +
+                           range_noise(rng);
+      frame.markers.push_back(d);
+    }
+    frames.push_back(frame);
+  }
+  const StageRangeErrorResult r = MeasureMarkerRangeErrors(frames, structure);
+  EXPECT_EQ(r.frames_used, 60);
+  ASSERT_EQ(r.samples.size(), 60u * 7u);
+  EXPECT_NEAR(r.line_velocity_mm_per_s.z(), 35.0 * std::cos(0.05), 0.05);
+  // Mean error per 100 mm bin against the curve at each sample's reference (true) range.
+  for (double lo = 300.0; lo < 700.0; lo += 100.0) {
+    double sum = 0.0;
+    int n = 0;
+    for (const MarkerRangeSample& s : r.samples) {
+      if (s.range_mm < lo || s.range_mm >= lo + 100.0) continue;
+      const double reference_mm = s.range_mm - s.error_mm;
+      sum += s.error_mm - sim::RetroRangeBiasMm(sim::RetroCurve::kSigmoid, 4.0, reference_mm);
+      ++n;
+    }
+    ASSERT_GT(n, 50) << lo;
+    EXPECT_NEAR(sum / n, 0.0, kMeanErrorTolMm) << lo;
+  }
+  EXPECT_THROW(MeasureMarkerRangeErrors(std::span(frames).first(3), structure),
+               std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tofnav

@@ -1,0 +1,118 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Constant-velocity pose Kalman filter with error-state orientation (tracking.md 6.5).
+#include "tofnav/tracking/pose_filter.hpp"
+
+#include <cmath>
+
+#include "tofnav/core/require.hpp"
+
+namespace tofnav {
+namespace {
+
+constexpr double kInitialRateVariance = 1e6;  // unknown velocity at (re-)initialisation
+
+Eigen::Quaterniond Exp(const Eigen::Vector3d& rotation_vector_rad) {
+  const double angle = rotation_vector_rad.norm();
+  if (angle < 1e-12) return Eigen::Quaterniond::Identity();
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation_vector_rad / angle));
+}
+
+Eigen::Vector3d Log(const Eigen::Quaterniond& q) {
+  const Eigen::AngleAxisd aa(q.w() < 0.0 ? Eigen::Quaterniond(-q.coeffs()) : q);
+  return aa.angle() * aa.axis();
+}
+
+}  // namespace
+
+void PoseFilterOptions::Check() const {
+  Require(position_accel_sigma_mm_per_s2 > 0.0 && rotation_accel_sigma_rad_per_s2 > 0.0,
+          "PoseFilterOptions: accel sigmas must be > 0");
+  Require(position_sigma_mm > 0.0 && rotation_sigma_rad > 0.0,
+          "PoseFilterOptions: measurement sigmas must be > 0");
+  Require(gate_chi2 > 0.0 && gate_floor_mm >= 0.0 && gate_floor_rad >= 0.0,
+          "PoseFilterOptions: gate_chi2 must be > 0 and the floors >= 0");
+  Require(
+      boost_chi2 > 0.0 && boost_velocity_sigma_mm_per_s >= 0.0 && boost_rate_sigma_rad_per_s >= 0.0,
+      "PoseFilterOptions: boost_chi2 must be > 0 and the boost sigmas >= 0");
+  Require(max_gated >= 1, "PoseFilterOptions::max_gated must be >= 1");
+  Require(max_gap_s > 0.0, "PoseFilterOptions::max_gap_s must be > 0");
+}
+
+PoseFilter::PoseFilter(const PoseFilterOptions& options) : options_(options) { options.Check(); }
+
+void PoseFilter::Reset() { initialised_ = false; }
+
+void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s) {
+  initialised_ = true;
+  last_s_ = timestamp_s;
+  position_mm_ = measured.translation;
+  rotation_ = measured.rotation;
+  velocity_mm_per_s_.setZero();
+  angular_velocity_rad_per_s_.setZero();
+  const double sp = options_.position_sigma_mm, sr = options_.rotation_sigma_rad;
+  position_cov_ = {sp * sp, 0.0, kInitialRateVariance};
+  rotation_cov_ = {sr * sr, 0.0, kInitialRateVariance};
+  gated_in_a_row_ = 0;
+}
+
+// F = [1 dt; 0 1], Q = s^2 [dt^4/4 dt^3/2; dt^3/2 dt^2] (discrete white acceleration).
+PoseFilter::Axis2 PoseFilter::Propagate(const Axis2& p, double dt_s, double accel_sigma) {
+  const double q = accel_sigma * accel_sigma, dt2 = dt_s * dt_s;
+  Axis2 out;
+  out.pp = p.pp + 2.0 * dt_s * p.pv + dt2 * p.vv + q * dt2 * dt2 / 4.0;
+  out.pv = p.pv + dt_s * p.vv + q * dt2 * dt_s / 2.0;
+  out.vv = p.vv + q * dt2;
+  return out;
+}
+
+std::optional<Rigid3d> PoseFilter::Predict(double timestamp_s) const {
+  if (!initialised_) return std::nullopt;
+  const double dt = timestamp_s - last_s_;
+  if (dt < 0.0 || dt > options_.max_gap_s) return std::nullopt;
+  return Rigid3d(Exp(angular_velocity_rad_per_s_ * dt) * rotation_,
+                 position_mm_ + velocity_mm_per_s_ * dt);
+}
+
+PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s) {
+  const std::optional<Rigid3d> predicted = Predict(timestamp_s);
+  if (!predicted) {  // first measurement, a gap, or time going backwards
+    Initialise(measured, timestamp_s);
+    return {measured, false, true};
+  }
+  const double dt = timestamp_s - last_s_;
+  const Axis2 pos = Propagate(position_cov_, dt, options_.position_accel_sigma_mm_per_s2);
+  const Axis2 rot = Propagate(rotation_cov_, dt, options_.rotation_accel_sigma_rad_per_s2);
+  const double sp = options_.position_sigma_mm, sr = options_.rotation_sigma_rad;
+  const double s_pos = pos.pp + sp * sp, s_rot = rot.pp + sr * sr;
+  const Eigen::Vector3d innovation_pos = measured.translation - predicted->translation;
+  const Eigen::Vector3d innovation_rot = Log(measured.rotation * predicted->rotation.inverse());
+  const double chi2 = innovation_pos.squaredNorm() / s_pos + innovation_rot.squaredNorm() / s_rot;
+  const bool beyond_floor = innovation_pos.norm() > options_.gate_floor_mm ||
+                            innovation_rot.norm() > options_.gate_floor_rad;
+  if (chi2 > options_.gate_chi2 && beyond_floor) {
+    if (++gated_in_a_row_ < options_.max_gated) return {*predicted, true, false};
+    Initialise(measured, timestamp_s);  // a real jump: stop locking it out
+    return {measured, false, true};
+  }
+  gated_in_a_row_ = 0;
+  const double kp0 = pos.pp / s_pos, kp1 = pos.pv / s_pos;
+  const double kr0 = rot.pp / s_rot, kr1 = rot.pv / s_rot;
+  position_mm_ = predicted->translation + kp0 * innovation_pos;
+  velocity_mm_per_s_ += kp1 * innovation_pos;
+  rotation_ = (Exp(kr0 * innovation_rot) * predicted->rotation).normalized();
+  angular_velocity_rad_per_s_ += kr1 * innovation_rot;
+  // P = (I - K H) P for H = [1 0].
+  position_cov_ = {(1.0 - kp0) * pos.pp, (1.0 - kp0) * pos.pv, pos.vv - kp1 * pos.pv};
+  rotation_cov_ = {(1.0 - kr0) * rot.pp, (1.0 - kr0) * rot.pv, rot.vv - kr1 * rot.pv};
+  if (innovation_pos.squaredNorm() / s_pos > options_.boost_chi2) {  // a manoeuvre starts
+    position_cov_.vv +=
+        options_.boost_velocity_sigma_mm_per_s * options_.boost_velocity_sigma_mm_per_s;
+  }
+  if (innovation_rot.squaredNorm() / s_rot > options_.boost_chi2) {
+    rotation_cov_.vv += options_.boost_rate_sigma_rad_per_s * options_.boost_rate_sigma_rad_per_s;
+  }
+  last_s_ = timestamp_s;
+  return {Rigid3d(rotation_, position_mm_), false, false};
+}
+
+}  // namespace tofnav

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// One constant-velocity pose filter per tool, on real timestamps, with reset and gating (6.5).
+#pragma once
+
+#include <optional>
+
+#include "tofnav/core/rigid3d.hpp"
+
+namespace tofnav {
+
+struct PoseFilterOptions {
+  /// White-acceleration process noise: lower is smoother and lags more (the jitter knob).
+  double position_accel_sigma_mm_per_s2 = 3.0;
+  double rotation_accel_sigma_rad_per_s2 = 0.05;
+  /// Measurement noise of a raw pose, per axis.
+  double position_sigma_mm = 0.15;
+  double rotation_sigma_rad = 0.003;
+  /// Innovation gate: chi-square with 6 degrees of freedom (22.46: p = 0.999). Innovations below
+  /// both floors are never gated, so slow manoeuvres are followed, not rejected.
+  double gate_chi2 = 22.46;
+  double gate_floor_mm = 2.0;
+  double gate_floor_rad = 0.035;
+  /// Manoeuvre boost: a normalised position (rotation) innovation above boost_chi2 (3 degrees
+  /// of freedom; 16.27: p = 0.999) adds boost_*_sigma^2 to the rate variance, so the filter
+  /// catches up with a starting motion in a few frames while a still tool stays smooth.
+  double boost_chi2 = 16.27;
+  double boost_velocity_sigma_mm_per_s = 300.0;
+  double boost_rate_sigma_rad_per_s = 3.0;
+  int max_gated = 3;       // after this many consecutive gated measurements: re-initialise
+  double max_gap_s = 0.2;  // no accepted measurement for longer: re-initialise on the next
+  void Check() const;      // throws std::invalid_argument naming the bad field
+};
+
+/// What one measurement did to the filter.
+struct PoseFilterUpdate {
+  Rigid3d filtered;    // the filtered pose at the measurement time (the measurement on reset)
+  bool gated = false;  // measurement rejected: `filtered` is the prediction, state unchanged
+  bool reset = false;  // (re-)initialised from this measurement
+};
+
+/// Constant-velocity Kalman filter on position (3 decoupled axes) and orientation (error state:
+/// rotation vector about the estimate, and angular velocity), with the real time step between
+/// measurements (AHAT rates drop from 45 to 5 Hz). Starts from the first measurement (no
+/// swim-in), re-initialises after a gap or repeated gating.
+class PoseFilter {
+ public:
+  explicit PoseFilter(const PoseFilterOptions& options = {});
+
+  PoseFilterUpdate Update(const Rigid3d& measured_ahat_from_tool, double timestamp_s);
+  /// The state extrapolated to `timestamp_s`; nullopt before the first measurement or when the
+  /// gap exceeds max_gap_s (the filter would re-initialise).
+  std::optional<Rigid3d> Predict(double timestamp_s) const;
+  void Reset();
+  bool initialised() const { return initialised_; }
+
+ private:
+  struct Axis2 {  // shared 2 x 2 covariance of (value, rate) of three isotropic axes
+    double pp = 0.0, pv = 0.0, vv = 0.0;
+  };
+  void Initialise(const Rigid3d& measured, double timestamp_s);
+  static Axis2 Propagate(const Axis2& p, double dt_s, double accel_sigma);
+
+  PoseFilterOptions options_;
+  bool initialised_ = false;
+  double last_s_ = 0.0;
+  Eigen::Vector3d position_mm_ = Eigen::Vector3d::Zero();
+  Eigen::Vector3d velocity_mm_per_s_ = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond rotation_ = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d angular_velocity_rad_per_s_ = Eigen::Vector3d::Zero();  // in `ahat`
+  Axis2 position_cov_, rotation_cov_;
+  int gated_in_a_row_ = 0;
+};
+
+}  // namespace tofnav

@@ -1,0 +1,129 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Pose filter: starts at the first measurement, smooths, follows motion at varying rates, gates.
+#include "tofnav/tracking/pose_filter.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "matchers.hpp"
+
+namespace tofnav {
+namespace {
+
+Rigid3d Noisy(const Rigid3d& truth, std::mt19937_64& rng, double sigma_mm, double sigma_rad) {
+  std::normal_distribution<double> n(0.0, 1.0);
+  const Eigen::Vector3d w(n(rng) * sigma_rad, n(rng) * sigma_rad, n(rng) * sigma_rad);
+  const Eigen::Quaterniond dq(Eigen::AngleAxisd(w.norm(), w.normalized()));
+  return Rigid3d(dq * truth.rotation,
+                 truth.translation + sigma_mm * Eigen::Vector3d(n(rng), n(rng), n(rng)));
+}
+
+TEST(PoseFilter, StartsAtTheFirstMeasurementAndSmoothsAStaticPose) {
+  constexpr double kSigmaMm = 0.15;
+  std::mt19937_64 rng(1);
+  const Rigid3d truth(Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY())),
+                      {20.0, -10.0, 450.0});
+  PoseFilter filter;
+  const Rigid3d first = Noisy(truth, rng, kSigmaMm, 0.002);
+  const PoseFilterUpdate u0 = filter.Update(first, 10.0);
+  EXPECT_TRUE(u0.reset);
+  EXPECT_THAT(u0.filtered, RigidNear(first, 1e-12, 1e-12));  // no swim-in from zero
+  double raw2 = 0.0, filtered2 = 0.0;
+  int n = 0;
+  for (int i = 1; i < 400; ++i) {
+    const Rigid3d z = Noisy(truth, rng, kSigmaMm, 0.002);
+    const PoseFilterUpdate u = filter.Update(z, 10.0 + i / 45.0);
+    ASSERT_FALSE(u.gated);
+    if (i < 50) continue;  // converged
+    raw2 += (z.translation - truth.translation).squaredNorm();
+    filtered2 += (u.filtered.translation - truth.translation).squaredNorm();
+    ++n;
+  }
+  EXPECT_LT(std::sqrt(filtered2 / n), 0.5 * std::sqrt(raw2 / n));
+}
+
+TEST(PoseFilter, FollowsMotionWithRealTimeStepsAsTheRateDrops) {
+  constexpr double kLagTolMm = 0.5, kLagTolRad = 0.01;
+  std::mt19937_64 rng(2);
+  PoseFilter filter;
+  const Eigen::Vector3d velocity(80.0, -30.0, 50.0);  // mm/s
+  const Eigen::Vector3d spin(0.0, 0.5, 0.2);          // rad/s
+  const auto truth_at = [&](double t) {
+    const Eigen::Quaterniond q(Eigen::AngleAxisd(spin.norm() * t, spin.normalized()));
+    return Rigid3d(q, Eigen::Vector3d(0, 0, 400) + velocity * t);
+  };
+  double t = 0.0;
+  for (int i = 0; i < 150; ++i) {
+    t += i < 75 ? 1.0 / 45.0 : 1.0 / 5.0 * (i % 2 ? 1.0 : 0.6);  // 45 Hz, then 5 Hz with jitter
+    const PoseFilterUpdate u = filter.Update(Noisy(truth_at(t), rng, 0.05, 0.0005), t);
+    ASSERT_FALSE(u.gated) << i;
+    if (i > 30) {
+      EXPECT_THAT(u.filtered, RigidNear(truth_at(t), kLagTolRad, kLagTolMm)) << i;
+    }
+  }
+}
+
+TEST(PoseFilter, CatchesUpWithAHandMotionThatStartsAndStops) {
+  constexpr double kMaxLagMm = 2.0;  // during 2 m/s^2 accelerations, at 45 Hz
+  std::mt19937_64 rng(3);
+  PoseFilter filter;
+  double worst = 0.0, worst_still = 0.0;
+  for (int i = 0; i < 180; ++i) {
+    const double t = i / 45.0;
+    // Still for 1 s, accelerate at 2 m/s^2 for 0.1 s, glide at 200 mm/s, stop likewise at 3 s.
+    const auto x_at = [](double s) {
+      const double a = 2000.0, t0 = 1.0, t1 = 1.1, t2 = 2.9, t3 = 3.0;
+      if (s < t0) return 0.0;
+      if (s < t1) return 0.5 * a * (s - t0) * (s - t0);
+      const double x1 = 0.5 * a * 0.01;
+      if (s < t2) return x1 + 200.0 * (s - t1);
+      const double x2 = x1 + 200.0 * (t2 - t1);
+      if (s < t3) return x2 + 200.0 * (s - t2) - 0.5 * a * (s - t2) * (s - t2);
+      return x2 + 200.0 * 0.1 - 0.5 * a * 0.01;
+    };
+    const Rigid3d truth(Eigen::Quaterniond::Identity(), {x_at(t), 0.0, 450.0});
+    const PoseFilterUpdate u = filter.Update(Noisy(truth, rng, 0.1, 0.001), t);
+    ASSERT_FALSE(u.gated) << i;
+    ASSERT_TRUE(!u.reset || i == 0) << i;
+    const double error = TranslationDistanceMm(u.filtered, truth);
+    worst = std::max(worst, error);
+    if (t > 3.5) worst_still = std::max(worst_still, error);
+  }
+  EXPECT_LT(worst, kMaxLagMm);
+  EXPECT_LT(worst_still, 0.3);  // settled again after the stop
+}
+
+TEST(PoseFilter, GatesAnOutlierAndReinitialisesAfterARealJump) {
+  PoseFilter filter;
+  const Rigid3d still(Eigen::Quaterniond::Identity(), {0, 0, 500});
+  for (int i = 0; i < 20; ++i) filter.Update(still, i / 45.0);
+  Rigid3d jumped = still;
+  jumped.translation.x() += 25.0;  // a mis-match for one frame
+  PoseFilterUpdate u = filter.Update(jumped, 20 / 45.0);
+  EXPECT_TRUE(u.gated);
+  EXPECT_THAT(u.filtered, RigidNear(still, 1e-3, 0.05));  // the prediction
+  u = filter.Update(still, 21 / 45.0);
+  EXPECT_FALSE(u.gated);
+  for (int i = 22; i < 24; ++i) EXPECT_TRUE(filter.Update(jumped, i / 45.0).gated);
+  u = filter.Update(jumped, 24 / 45.0);  // the third in a row: the tool really moved
+  EXPECT_TRUE(u.reset);
+  EXPECT_THAT(u.filtered, RigidNear(jumped, 1e-12, 1e-12));
+}
+
+TEST(PoseFilter, ResetsAfterAGapOrWhenTimeGoesBack) {
+  PoseFilter filter;
+  const Rigid3d a(Eigen::Quaterniond::Identity(), {0, 0, 500});
+  filter.Update(a, 1.0);
+  EXPECT_TRUE(filter.Predict(1.1).has_value());
+  EXPECT_FALSE(filter.Predict(1.5).has_value());  // beyond max_gap_s
+  EXPECT_TRUE(filter.Update(a, 1.5).reset);
+  EXPECT_TRUE(filter.Update(a, 1.4).reset);  // time went backwards
+  PoseFilterOptions bad;
+  bad.max_gated = 0;
+  EXPECT_THROW(PoseFilter{bad}, std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tofnav

@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Pose of a known marker structure from marker rays alone (PnP), free of any range bias.
+#pragma once
+
+#include <Eigen/Core>
+#include <span>
+
+#include "tofnav/core/rigid3d.hpp"
+
+namespace tofnav {
+
+struct RayPoseOptions {
+  int max_iterations = 50;
+  double tolerance_mm = 1e-4;  // stop when a step moves every marker less than this
+  void Check() const;
+};
+
+struct RayPoseResult {
+  Rigid3d ahat_from_tool;
+  double rms_ray_distance_mm = 0.0;  // RMS distance of the posed markers from their rays
+  int iterations = 0;
+  bool converged = false;
+};
+
+/// Minimises sum |(I - r_i r_i^T)(R m_i + t)|^2, the object-space collinearity error of Lu,
+/// Hager & Mjolsness (2000), by Gauss-Newton from `initial_ahat_from_tool` (e.g. a Kabsch fit to
+/// range-based centres, which also picks the right branch of a planar structure's two poses). Uses
+/// only the rays, so the result is independent of the ToF range error: the reference of the f_rf
+/// experiment (Sec. III-A.1). Throws std::invalid_argument on fewer than 3 pairs or a size
+/// mismatch.
+/// @param rays_in_ahat  unit rays through the marker centres, one per marker
+RayPoseResult EstimatePoseFromRays(std::span<const Eigen::Vector3d> markers_in_tool,
+                                   std::span<const Eigen::Vector3d> rays_in_ahat,
+                                   const Rigid3d& initial_ahat_from_tool,
+                                   const RayPoseOptions& options = {});
+
+}  // namespace tofnav

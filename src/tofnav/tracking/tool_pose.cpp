@@ -1,0 +1,204 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Multi-tool arbitration with a temporal prior and ambiguity detection (tracking.md 4.3, 6.4, 6.7).
+#include "tofnav/tracking/tool_pose.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "tofnav/core/require.hpp"
+#include "tofnav/markers/marker_centre.hpp"
+
+namespace tofnav {
+namespace {
+
+struct Scored {
+  std::size_t tool = 0;
+  std::size_t candidate = 0;
+  double score = 0.0;
+};
+
+bool Uses(const ToolCandidate& c, const std::vector<bool>& used) {
+  return std::any_of(c.scene_index.begin(), c.scene_index.end(),
+                     [&](int s) { return s >= 0 && used[static_cast<std::size_t>(s)]; });
+}
+
+bool Shares(const ToolCandidate& a, const ToolCandidate& b) {
+  return std::any_of(a.scene_index.begin(), a.scene_index.end(), [&](int s) {
+    return s >= 0 &&
+           std::find(b.scene_index.begin(), b.scene_index.end(), s) != b.scene_index.end();
+  });
+}
+
+class Arbiter {
+ public:
+  Arbiter(std::span<const Points3d> centres, std::span<const ToolGeometry> tools,
+          std::span<const std::optional<Rigid3d>> predicted, const ToolPoseOptions& options)
+      : tools_(tools), options_(options), results_(tools.size()), resolved_(tools.size(), false) {
+    detection_count_ = centres.empty() ? 0 : centres[0].size();
+    used_.assign(detection_count_, false);
+    for (std::size_t t = 0; t < tools.size(); ++t) {
+      const ToolGeometry& tool = tools[t];
+      CandidateSearchOptions search_options;
+      search_options.tolerance = options.tolerance;
+      search_options.max_fre_mm = tool.max_fre_mm > 0.0 ? tool.max_fre_mm : options.max_fre_mm;
+      search_options.max_nodes = options.max_search_nodes;
+      searches_.push_back(FindToolCandidates(centres[t], tool, tool.min_visible, search_options));
+      results_[t].candidate_count = static_cast<int>(searches_[t].candidates.size());
+      const std::optional<Rigid3d> prior = predicted.empty() ? std::nullopt : predicted[t];
+      for (std::size_t c = 0; c < searches_[t].candidates.size(); ++c) {
+        scored_.push_back({t, c, Score(tool, searches_[t].candidates[c], prior)});
+      }
+    }
+    std::stable_sort(scored_.begin(), scored_.end(),
+                     [](const Scored& a, const Scored& b) { return a.score < b.score; });
+  }
+
+  std::vector<ToolPoseResult> Run() {
+    for (const Scored& s : scored_) {
+      if (resolved_[s.tool] || Uses(Candidate(s), used_)) continue;
+      Decide(s);
+    }
+    const int free = static_cast<int>(std::count(used_.begin(), used_.end(), false));
+    for (std::size_t t = 0; t < tools_.size(); ++t) {
+      if (resolved_[t]) continue;
+      results_[t].status = searches_[t].truncated         ? ToolStatus::kAmbiguous
+                           : free < tools_[t].min_visible ? ToolStatus::kTooFewMarkers
+                                                          : ToolStatus::kOutOfView;
+    }
+    return std::move(results_);
+  }
+
+ private:
+  const ToolCandidate& Candidate(const Scored& s) const {
+    return searches_[s.tool].candidates[s.candidate];
+  }
+
+  // Ranking of tracking.md 6.4: FRE + occlusion penalty + capped temporal prior.
+  double Score(const ToolGeometry& tool, const ToolCandidate& c,
+               const std::optional<Rigid3d>& prior) const {
+    const int unseen = static_cast<int>(tool.markers_in_tool.size()) - c.visible;
+    double score = c.fit.fre_rms_mm + options_.occlusion_penalty_mm * unseen;
+    if (prior) {
+      double distance = 0.0;
+      for (const Eigen::Vector3d& m : tool.markers_in_tool) {
+        distance += (c.fit.target_from_source * m - *prior * m).norm();
+      }
+      distance /= static_cast<double>(tool.markers_in_tool.size());
+      score += options_.prior_weight * std::min(distance, options_.prior_cap_mm);
+    }
+    return score;
+  }
+
+  bool Distinct(const ToolCandidate& a, const ToolCandidate& b) const {
+    const Rigid3d& pa = a.fit.target_from_source;
+    const Rigid3d& pb = b.fit.target_from_source;
+    return RotationDistanceRad(pa, pb) > options_.distinct_rotation_rad ||
+           TranslationDistanceMm(pa, pb) > options_.distinct_translation_mm;
+  }
+
+  // The best remaining candidate of its tool: accept it unless a distinct alternative of the same
+  // tool, or another tool's candidate on the same detections, scores within the margin.
+  void Decide(const Scored& best) {
+    const ToolCandidate& c = Candidate(best);
+    double margin = std::numeric_limits<double>::infinity();
+    std::vector<std::size_t> rivals;
+    for (const Scored& s : scored_) {
+      if (&Candidate(s) == &c || resolved_[s.tool] || Uses(Candidate(s), used_)) continue;
+      const bool rival = s.tool == best.tool ? Distinct(c, Candidate(s)) : Shares(c, Candidate(s));
+      if (!rival) continue;
+      margin = std::min(margin, s.score - best.score);
+      if (s.tool != best.tool && s.score - best.score < options_.ambiguity_margin_mm) {
+        rivals.push_back(s.tool);
+      }
+    }
+    ToolPoseResult& r = results_[best.tool];
+    r.second_best_margin_mm = margin;
+    resolved_[best.tool] = true;
+    if (margin < options_.ambiguity_margin_mm || searches_[best.tool].truncated) {
+      r.status = ToolStatus::kAmbiguous;
+      for (const std::size_t t : rivals) {
+        resolved_[t] = true;
+        results_[t].status = ToolStatus::kAmbiguous;
+      }
+      return;
+    }
+    const std::size_t marker_count = tools_[best.tool].markers_in_tool.size();
+    r.status = c.visible == static_cast<int>(marker_count) ? ToolStatus::kOk
+                                                           : ToolStatus::kPartiallyOccluded;
+    r.ahat_from_tool = c.fit.target_from_source;
+    r.marker_detection = c.scene_index;
+    r.visible_markers = c.visible;
+    r.fre_rms_mm = c.fit.fre_rms_mm;
+    r.residuals_mm = c.fit.residuals_mm;
+    for (const int s : c.scene_index) {
+      if (s >= 0) used_[static_cast<std::size_t>(s)] = true;
+    }
+  }
+
+  std::span<const ToolGeometry> tools_;
+  const ToolPoseOptions& options_;
+  std::size_t detection_count_ = 0;
+  std::vector<CandidateSearchResult> searches_;
+  std::vector<Scored> scored_;
+  std::vector<ToolPoseResult> results_;
+  std::vector<bool> resolved_;
+  std::vector<bool> used_;
+};
+
+}  // namespace
+
+const char* ToString(ToolStatus status) {
+  switch (status) {
+    case ToolStatus::kOk:
+      return "ok";
+    case ToolStatus::kPartiallyOccluded:
+      return "partially_occluded";
+    case ToolStatus::kAmbiguous:
+      return "ambiguous";
+    case ToolStatus::kTooFewMarkers:
+      return "too_few_markers";
+    case ToolStatus::kOutOfView:
+      return "out_of_view";
+  }
+  return "unknown";
+}
+
+void ToolPoseOptions::Check() const {
+  tolerance.Check();
+  Require(max_fre_mm > 0.0, "ToolPoseOptions::max_fre_mm must be > 0");
+  Require(occlusion_penalty_mm >= 0.0, "ToolPoseOptions::occlusion_penalty_mm must be >= 0");
+  Require(prior_weight >= 0.0 && prior_cap_mm >= 0.0,
+          "ToolPoseOptions::prior_weight and prior_cap_mm must be >= 0");
+  Require(ambiguity_margin_mm >= 0.0, "ToolPoseOptions::ambiguity_margin_mm must be >= 0");
+  Require(distinct_rotation_rad > 0.0 && distinct_translation_mm > 0.0,
+          "ToolPoseOptions::distinct_rotation_rad and distinct_translation_mm must be > 0");
+  Require(max_search_nodes >= 1, "ToolPoseOptions::max_search_nodes must be >= 1");
+}
+
+std::vector<ToolPoseResult> EstimateToolPoses(
+    std::span<const DetectedMarker> detections, std::span<const ToolGeometry> tools,
+    std::span<const std::optional<Rigid3d>> predicted_ahat_from_tool,
+    const ToolPoseOptions& options) {
+  options.Check();
+  Require(predicted_ahat_from_tool.empty() || predicted_ahat_from_tool.size() == tools.size(),
+          "EstimateToolPoses: predicted_ahat_from_tool must be empty or one per tool");
+  std::vector<Points3d> centres;
+  centres.reserve(tools.size());
+  for (const ToolGeometry& tool : tools) {
+    tool.Check();
+    centres.push_back(MarkerCentres(detections, tool.SurfaceToCentreMm()));
+  }
+  return Arbiter(centres, tools, predicted_ahat_from_tool, options).Run();
+}
+
+ToolPoseResult EstimateToolPose(std::span<const Eigen::Vector3d> centres_in_ahat,
+                                const ToolGeometry& tool, const ToolPoseOptions& options) {
+  options.Check();
+  tool.Check();
+  const Points3d centres(centres_in_ahat.begin(), centres_in_ahat.end());
+  return Arbiter(std::span<const Points3d>(&centres, 1), std::span<const ToolGeometry>(&tool, 1),
+                 {}, options)
+      .Run()[0];
+}
+
+}  // namespace tofnav

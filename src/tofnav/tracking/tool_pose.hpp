@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Poses of several tools in one frame: matching, arbitration, ambiguity and status (Sec. III-C).
+#pragma once
+
+#include <Eigen/Core>
+#include <limits>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "tofnav/core/rigid3d.hpp"
+#include "tofnav/markers/marker_detection.hpp"
+#include "tofnav/tracking/correspondence.hpp"
+#include "tofnav/tracking/tool_geometry.hpp"
+
+namespace tofnav {
+
+/// Normal per-frame outcomes for one tool (STYLE P7). Only kOk and kPartiallyOccluded carry a
+/// pose, and that pose is always measured in this frame.
+enum class ToolStatus {
+  kOk,                 // every marker matched
+  kPartiallyOccluded,  // matched with min_visible or more, but not all, markers
+  kAmbiguous,          // two distinct poses (symmetry, twin tools, shared blobs) score alike
+  kTooFewMarkers,      // fewer than min_visible detections were left for this tool
+  kOutOfView,          // enough detections, but none fit the tool
+};
+const char* ToString(ToolStatus status);
+
+struct ToolPoseOptions {
+  MatchTolerance tolerance;
+  double max_fre_mm = 1.0;            // default FRE acceptance (ToolGeometry::max_fre_mm overrides)
+  double occlusion_penalty_mm = 0.5;  // score per unseen marker
+  /// Temporal prior: score += prior_weight * min(mean marker distance from the predicted pose,
+  /// prior_cap_mm). Dimensionless weight.
+  double prior_weight = 0.1;
+  double prior_cap_mm = 10.0;
+  /// A second candidate with a distinct pose scoring within this margin makes the tool ambiguous.
+  double ambiguity_margin_mm = 0.3;
+  double distinct_rotation_rad = 0.1;  // poses differing by more than either are distinct
+  double distinct_translation_mm = 3.0;
+  int max_search_nodes = 200000;  // per tool; a truncated search reports kAmbiguous
+  void Check() const;             // throws std::invalid_argument naming the bad field
+};
+
+struct ToolPoseResult {
+  ToolStatus status = ToolStatus::kOutOfView;
+  std::optional<Rigid3d> ahat_from_tool;  // only for kOk and kPartiallyOccluded
+  std::vector<int> marker_detection;      // per tool marker: index into the detections, -1 unseen
+  int visible_markers = 0;
+  double fre_rms_mm = 0.0;
+  std::vector<double> residuals_mm;  // per matched marker, in tool marker order
+  int candidate_count = 0;           // candidates the search found for this tool
+  /// Score gap to the best distinct alternative (infinity when there is none) [mm].
+  double second_best_margin_mm = std::numeric_limits<double>::infinity();
+};
+
+/// Matches every tool against one frame's detections (centres from each tool's own marker
+/// radius), scores candidates by FRE + occlusion penalty + temporal prior, assigns detections to
+/// tools greedily by score (each detection to at most one tool) and flags ambiguity instead of
+/// guessing. `predicted_ahat_from_tool` is empty or has one (optional) entry per tool. Calls
+/// Check() on the options and every tool (throws std::invalid_argument).
+std::vector<ToolPoseResult> EstimateToolPoses(
+    std::span<const DetectedMarker> detections, std::span<const ToolGeometry> tools,
+    std::span<const std::optional<Rigid3d>> predicted_ahat_from_tool = {},
+    const ToolPoseOptions& options = {});
+
+/// One tool from marker centres already in `ahat` (e.g. after Eq. (2) and the radius).
+ToolPoseResult EstimateToolPose(std::span<const Eigen::Vector3d> centres_in_ahat,
+                                const ToolGeometry& tool, const ToolPoseOptions& options = {});
+
+}  // namespace tofnav

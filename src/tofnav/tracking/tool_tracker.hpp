@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Frame-to-frame tracking of several tools: poses, temporal prior, one filter per tool, status.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "tofnav/markers/marker_detection.hpp"
+#include "tofnav/tracking/pose_filter.hpp"
+#include "tofnav/tracking/tool_pose.hpp"
+
+namespace tofnav {
+
+struct ToolTrackerOptions {
+  ToolPoseOptions pose;
+  PoseFilterOptions filter;
+  bool filter_enabled = true;
+  int max_missed_frames = 5;  // frames without a pose before the filter and prior are dropped
+  void Check() const;         // throws std::invalid_argument naming the bad field
+};
+
+/// One tool in one frame. Poses exist only when measured in this frame: never a stale pose.
+struct TrackedTool {
+  ToolPoseResult measurement;  // status, raw ahat_from_tool, FRE, matched detections, evidence
+  /// Filtered pose at this frame's time; nullopt unless the measurement has a pose, the filter is
+  /// enabled and the measurement passed the gate.
+  std::optional<Rigid3d> filtered_ahat_from_tool;
+  bool gated = false;         // the filter rejected this frame's raw pose as an outlier
+  bool filter_reset = false;  // the filter (re-)started from this frame's raw pose
+  ToolStatus status() const { return measurement.status; }
+};
+
+struct TrackingFrame {
+  double timestamp_s = 0.0;
+  std::vector<TrackedTool> tools;  // in ToolTracker::tools() order
+};
+
+/// Tracks a fixed set of tools over frames (Sec. III-C). Give it detections whose ranges were
+/// already corrected by Eq. (2) when an f_rf model is used (tracking does not know correction).
+class ToolTracker {
+ public:
+  /// Throws std::invalid_argument on bad options or a tool that fails ToolGeometry::Check().
+  explicit ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptions& options = {});
+
+  TrackingFrame Track(std::span<const DetectedMarker> detections, double timestamp_s);
+  const std::vector<ToolGeometry>& tools() const { return tools_; }
+  void Reset();
+
+ private:
+  std::vector<ToolGeometry> tools_;
+  ToolTrackerOptions options_;
+  std::vector<PoseFilter> filters_;
+  std::vector<std::optional<Rigid3d>> last_pose_;  // last raw pose (prior when unfiltered)
+  std::vector<double> last_seen_s_;
+  std::vector<int> missed_;
+};
+
+}  // namespace tofnav

@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# The CLI turns bad input into one clear line on stderr and a non-zero exit, never a crash.
+# Usage: cli_errors_test.sh <path to tofnav>
+set -uo pipefail
+tofnav=$1
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+failures=0
+
+expect_failure() {  # expect_failure <what stderr must contain> <args...>
+  local needle=$1
+  shift
+  "$tofnav" "$@" >"$scratch/out" 2>"$scratch/err"
+  local rc=$?
+  if [ $rc -eq 0 ] || [ $rc -ge 128 ]; then
+    echo "FAIL: tofnav $* exited $rc (expected a clean failure)"
+    failures=$((failures + 1))
+  elif ! grep -qF -- "$needle" "$scratch/err"; then
+    echo "FAIL: tofnav $*: stderr lacks '$needle':"
+    cat "$scratch/err"
+    failures=$((failures + 1))
+  fi
+}
+
+expect_failure "unknown subcommand" no-such-command
+expect_failure "$scratch/missing.bin" info "$scratch/missing.bin"
+head -c 1000 /dev/urandom >"$scratch/random.bin"
+expect_failure "HL2SSV23" info "$scratch/random.bin"
+printf 'HL2SSV23\xd4\x0e' >"$scratch/truncated.bin"
+expect_failure "truncated.bin" info "$scratch/truncated.bin"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1\n2\n' \
+  >"$scratch/short.ply"
+expect_failure "short.ply" info "$scratch/short.ply"
+expect_failure "not an AHAT recording" convert "$scratch/random.bin" "$scratch/out_folder" --to stream-recorder
+"$tofnav" info --help >/dev/null || { echo "FAIL: info --help"; failures=$((failures + 1)); }
+
+[ $failures -eq 0 ] && echo "all CLI error checks passed"
+exit $failures

@@ -1,0 +1,151 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Acceptance of f_rf (Eq. 1-2) fitted from a rendered linear-stage recording (Sec. III-A.1).
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "e2e_common.hpp"
+#include "tofnav/markers/marker_centre.hpp"
+#include "tofnav/tracking/linear_stage.hpp"
+#include "tofnav/tracking/tool_pose.hpp"
+#include "tracking_test_tools.hpp"
+
+namespace tofnav {
+namespace {
+
+// The paper's planar structure: seven Phi 10 mm tape discs on a board (the tool frame's z = 0
+// plane, facing +z); disc centres sit 0.1 mm above it.
+ToolGeometry Structure() {
+  ToolGeometry s;
+  s.name = "stage";
+  s.marker_type = MarkerType::kDisc;
+  s.marker_diameter_mm = 10.0;
+  s.markers_in_tool = {{-60, -40, 0.1}, {5, -45, 0.1}, {55, -30, 0.1}, {-45, 40, 0.1},
+                       {10, 30, 0.1},   {62, 45, 0.1}, {-5, -5, 0.1}};
+  return s;
+}
+
+// 4 x 4 sub-rays: see tracking_e2e_test.cpp (2 x 2 jittered rays add rim coverage noise).
+sim::RenderResult RenderStructure(sim::RetroCurve curve, const Rigid3d& pose, std::uint64_t seed);
+
+sim::Scene StructureScene(sim::RetroCurve curve, const Rigid3d& ahat_from_structure) {
+  int retro = 0;
+  sim::Scene scene = testing::WallScene(1500.0, retro, curve);
+  const int board = scene.AddMaterial(sim::DiffuseMaterial(0.3));
+  scene.AddObject("board", sim::PlaneMesh(170.0, 130.0), board, ahat_from_structure);
+  sim::Tool tool{"stage", {}, ahat_from_structure};
+  for (const Eigen::Vector3d& p : Structure().markers_in_tool) {
+    tool.markers.push_back(sim::DiscMarkerOnSurface(p - Eigen::Vector3d(0, 0, 0.1),
+                                                    Eigen::Vector3d::UnitZ(), 10.0, retro, 0.1));
+  }
+  scene.AddTool(tool);
+  return scene;
+}
+
+sim::RenderResult RenderStructure(sim::RetroCurve curve, const Rigid3d& pose, std::uint64_t seed) {
+  sim::RenderOptions options;
+  options.supersampling = 4;
+  return testing::RenderMarkers(StructureScene(curve, pose), seed, options);
+}
+
+// Bias of corrected disc-centre ranges [mm] per 100 mm bin over 300-700 mm.
+std::vector<double> CentreRangeBias(sim::RetroCurve curve, const MarkerRangeModel& model,
+                                    std::mt19937_64& rng, std::vector<double>& uncorrected) {
+  std::vector<std::vector<double>> bins(4), raw_bins(4);
+  std::uniform_real_distribution<double> z(300.0, 700.0);
+  for (int f = 0; f < 80; ++f) {
+    const Rigid3d pose = testing::RandomFacingPose(rng, z(rng), 0.3);
+    const sim::RenderResult r = RenderStructure(curve, pose, rng());
+    const std::vector<DetectedMarker> raw = LocateMarkers(r.frame, testing::TestCamera()).markers;
+    const std::vector<DetectedMarker> corrected = CorrectMarkerRanges(raw, model);
+    for (std::size_t i = 0; i < raw.size(); ++i) {
+      // The true marker nearest to the detection's ray.
+      const sim::MarkerTruth* best = nullptr;
+      double best_angle = 1.0;
+      for (const sim::MarkerTruth& m : r.markers) {
+        const double angle =
+            std::acos(std::min(1.0, m.centre_in_ahat.normalized().dot(raw[i].ray_in_ahat)));
+        if (angle < best_angle) best_angle = angle, best = &m;
+      }
+      if (best == nullptr || best_angle > 0.01) continue;
+      const double truth_mm = best->centre_in_ahat.norm();
+      const auto bin = static_cast<std::size_t>(std::clamp((truth_mm - 300.0) / 100.0, 0.0, 3.0));
+      bins[bin].push_back(CentreRangeMm(corrected[i], 0.0, corrected[i].surface_range_mm) -
+                          truth_mm);
+      raw_bins[bin].push_back(CentreRangeMm(raw[i], 0.0, raw[i].surface_range_mm) - truth_mm);
+    }
+  }
+  std::vector<double> bias;
+  uncorrected.clear();
+  for (std::size_t b = 0; b < 4; ++b) {
+    bias.push_back(testing::Mean(bins[b]));
+    uncorrected.push_back(testing::Mean(raw_bins[b]));
+  }
+  return bias;
+}
+
+// Position RMS [mm] of the 4-sphere reference tool over 300-700 mm with `model` applied: f_rf
+// measured on tape discs, used on spheres.
+double SphereToolPositionRms(sim::RetroCurve curve, const MarkerRangeModel& model,
+                             std::mt19937_64& rng) {
+  const ToolGeometry tools[] = {testing::ReferenceTool()};
+  std::uniform_real_distribution<double> z(300.0, 700.0);
+  std::vector<double> errors;
+  for (int f = 0; f < 60; ++f) {
+    const Rigid3d truth = testing::RandomFacingPose(rng, z(rng), 0.5);
+    int retro = 0;
+    sim::Scene scene = testing::WallScene(1000.0, retro, curve);
+    scene.AddTool(testing::SphereTool("reference", tools[0].markers_in_tool, 11.5, retro, truth));
+    sim::RenderOptions options;
+    options.supersampling = 4;
+    const sim::RenderResult r = testing::RenderMarkers(scene, rng(), options);
+    const std::vector<DetectedMarker> detections =
+        CorrectMarkerRanges(LocateMarkers(r.frame, testing::TestCamera()).markers, model);
+    const ToolPoseResult pose = EstimateToolPoses(detections, tools)[0];
+    if (pose.ahat_from_tool) errors.push_back(TranslationDistanceMm(*pose.ahat_from_tool, truth));
+  }
+  return testing::Rms(errors);
+}
+
+TEST(MarkerRangeAcceptance, FrfFittedFromAStageRecordingRemovesTheRangeBias) {
+  constexpr double kMaxSpherePositionRmsMm = 0.25;
+  constexpr double kMaxBiasMm = 0.2;  // the target, with a 4 mm f_rf span
+  for (const sim::RetroCurve curve : {sim::RetroCurve::kLinear, sim::RetroCurve::kSigmoid}) {
+    std::mt19937_64 rng(static_cast<std::uint64_t>(curve));
+    std::vector<StageFrame> frames;
+    for (int f = 0; f < 160; ++f) {  // 280 -> 720 mm at a constant 27.5 mm/s, 10 Hz
+      const double t = 0.1 * f;
+      const Rigid3d pose = testing::FacingToolPose({12.0, -8.0, 280.0 + 27.5 * t}, 0.05, 0.1);
+      const sim::RenderResult r = RenderStructure(curve, pose, rng());
+      frames.push_back({t, LocateMarkers(r.frame, testing::TestCamera()).markers});
+    }
+    const StageRangeErrorResult stage = MeasureMarkerRangeErrors(frames, Structure());
+    std::vector<double> reference_error;  // PnP + line position along z against the truth
+    for (int f = 0; f < 160; ++f) {
+      const double t = 0.1 * f;
+      const Eigen::Vector3d on_line = stage.line_origin_mm + stage.line_velocity_mm_per_s * t;
+      reference_error.push_back(on_line.z() - (280.0 + 27.5 * t));
+    }
+    std::printf("PnP + line reference depth error: mean %+.3f mm, RMS %.3f mm\n",
+                testing::Mean(reference_error), testing::Rms(reference_error));
+    const MarkerRangeFitResult fit = FitMarkerRangeModel(stage.samples);
+    std::printf(
+        "curve %d: %d frames, %zu samples, line RMS %.3f mm, p %.3g, dof %.1f, residual "
+        "RMS %.3f mm\n",
+        static_cast<int>(curve), stage.frames_used, stage.samples.size(), stage.line_rms_mm,
+        fit.fit.smoothing_p, fit.fit.effective_dof, fit.rms_residual_mm);
+    std::vector<double> uncorrected;
+    const std::vector<double> bias = CentreRangeBias(curve, fit.model, rng, uncorrected);
+    for (std::size_t b = 0; b < bias.size(); ++b) {
+      std::printf("  %3zu-%3zu mm: centre range bias %+.3f mm corrected, %+.3f mm raw\n",
+                  300 + 100 * b, 400 + 100 * b, bias[b], uncorrected[b]);
+      EXPECT_LE(std::abs(bias[b]), kMaxBiasMm) << b;
+    }
+    const double sphere_rms = SphereToolPositionRms(curve, fit.model, rng);
+    std::printf("  sphere reference tool with this f_rf: position RMS %.3f mm\n", sphere_rms);
+    EXPECT_LE(sphere_rms, kMaxSpherePositionRmsMm);
+  }
+}
+
+}  // namespace
+}  // namespace tofnav

@@ -1,0 +1,71 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Test-only tools and synthetic detections for tracking/ tests (no rendering: fast).
+#pragma once
+
+#include <Eigen/Geometry>
+#include <random>
+#include <vector>
+
+#include "marker_test_scenes.hpp"
+#include "tofnav/markers/marker_detection.hpp"
+#include "tofnav/tracking/tool_geometry.hpp"
+
+namespace tofnav::testing {
+
+inline ToolGeometry ReferenceTool() {
+  ToolGeometry tool;
+  tool.name = "Reference";
+  tool.markers_in_tool = ReferenceToolMarkers();
+  return tool;
+}
+
+inline ToolGeometry SecondTool() {
+  ToolGeometry tool;
+  tool.name = "Pointer";
+  tool.markers_in_tool = SecondToolMarkers();
+  return tool;
+}
+
+/// A detection whose MarkerCentre(radius) is exactly `centre` (no core samples).
+inline DetectedMarker DetectionAt(const Eigen::Vector3d& centre_in_ahat, double radius_mm) {
+  DetectedMarker m;
+  m.ray_in_ahat = centre_in_ahat.normalized();
+  m.surface_range_mm = centre_in_ahat.norm() - radius_mm;
+  m.area_px = 30;
+  m.ab_peak = 40000.0;
+  return m;
+}
+
+/// Detections of `tool` at `ahat_from_tool` with isotropic centre noise [mm].
+inline std::vector<DetectedMarker> ToolDetections(const ToolGeometry& tool,
+                                                  const Rigid3d& ahat_from_tool, double noise_mm,
+                                                  std::mt19937_64& rng) {
+  std::normal_distribution<double> noise(0.0, noise_mm);
+  std::vector<DetectedMarker> out;
+  for (const Eigen::Vector3d& m : tool.markers_in_tool) {
+    const Eigen::Vector3d c =
+        ahat_from_tool * m + Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
+    out.push_back(DetectionAt(c, tool.SurfaceToCentreMm()));
+  }
+  return out;
+}
+
+/// `count` spurious detections spread over a box in front of the camera.
+inline void AddSpurious(std::vector<DetectedMarker>& detections, int count, std::mt19937_64& rng,
+                        const Eigen::Vector3d& centre = {0.0, 0.0, 450.0}, double half_mm = 150.0) {
+  std::uniform_real_distribution<double> u(-half_mm, half_mm);
+  for (int i = 0; i < count; ++i) {
+    detections.push_back(DetectionAt(centre + Eigen::Vector3d(u(rng), u(rng), u(rng)), 5.75));
+  }
+}
+
+/// A random rotation of up to `max_angle_rad` about a random axis, applied to FacingToolPose.
+inline Rigid3d RandomFacingPose(std::mt19937_64& rng, double z_mm, double max_angle_rad = 0.5) {
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  const Eigen::Vector3d axis = Eigen::Vector3d(u(rng), u(rng), u(rng)).normalized();
+  const Eigen::Quaterniond turn(Eigen::AngleAxisd(max_angle_rad * std::abs(u(rng)), axis));
+  const Rigid3d base = FacingToolPose({60.0 * u(rng), 60.0 * u(rng), z_mm});
+  return Rigid3d(base.rotation * turn, base.translation);
+}
+
+}  // namespace tofnav::testing
