@@ -159,8 +159,8 @@ TEST(ParseScenarioJson, WrongTypesAndValuesAreErrors) {
   ExpectError(R"({"patient": {"phantom": {"segments": 17}}})", "invalid scenario");
 }
 
-TEST(ParseScenarioJson, CtHeadsWaitForSkinExtraction) {
-  ExpectError(R"({"patient": {"head": "ct:/data/head.nrrd"}})", "not yet available");
+TEST(ParseScenarioJson, UnreadableCtHeadsAndUnknownHeadsAreRefused) {
+  ExpectError(R"({"patient": {"head": "ct:/data/head.nrrd"}})", "/data/head.nrrd");
   ExpectError(R"({"patient": {"head": "skull"}})", "expected \"phantom\"");
 }
 

@@ -10,6 +10,7 @@
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/mesh_io.hpp"
+#include "tofnav/io/patient_head.hpp"
 #include "tofnav/io/plan_markups.hpp"
 #include "tofnav/io/truth_json.hpp"
 #include "tofnav/io/volume_io.hpp"
@@ -34,7 +35,12 @@ void WritePatientFiles(const sim::Scenario& s, const std::filesystem::path& out_
                        std::vector<std::pair<std::string, std::string>>& files) {
   const sim::Patient& patient = *s.patient;
   const TriangleMesh& skin = s.scene.objects[static_cast<std::size_t>(patient.object)].mesh;
-  if (patient.write_ct) {
+  const std::filesystem::path real_ct = CtPathOfHeadSource(patient.head_source);
+  if (patient.write_ct && !real_ct.empty()) {  // the real CT is the pre-operative image
+    CtVolume volume = ReadVolume(real_ct);
+    WriteVolume(out_dir / kCtName, volume, {.sample_type = VolumeSampleType::kInt16});
+    files.emplace_back("ct", kCtName);
+  } else if (patient.write_ct) {
     sim::SyntheticCt ct = sim::SynthesizeHeadCt(skin, patient.anatomy, patient.ct,
                                                 sim::StreamSeed(s.seed, sim::SeedStream::kCtNoise));
     CtVolume volume;
