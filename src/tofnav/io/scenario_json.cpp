@@ -198,7 +198,7 @@ class ScenarioBuilder {
     try {
       head_ = LoadPatientHead(head, base_, phantom_options);
     } catch (const std::invalid_argument& e) {
-      Fail(in.At("head"), e.what());
+      Fail(in.At(head == "phantom" ? "phantom" : "head"), e.what());
     }
     if (const Json* j = in.Find("anatomy")) {
       JsonFields a(*j, in.At("anatomy"));
