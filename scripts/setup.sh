@@ -11,6 +11,7 @@ packages=(
   libgdcm-dev                                    # io/: DICOM series
   libnanoflann-dev                               # registration/: KD-tree
   python3-numpy python3-nibabel python3-pydicom  # tests/volume_oracle.py
+  python3-dev pybind11-dev python3-pytest        # python/: bindings and their tests
   invesalius-examples mricron-data               # real head CT/MR read by tests, never committed
 )
 
