@@ -30,11 +30,8 @@ TsdfVolume MakeTsdf(const AhatCamera& camera, double voxel_size_mm, double trunc
 py::dict Integrate(TsdfVolume& volume, const ArrayF& range_mm, const py::object& tool_from_ahat) {
   const Image<float> range = ImageFromArray<float>(range_mm, "range_mm");
   const std::optional<Rigid3d> pose = OptionalRigidFromObject(tool_from_ahat);
-  IntegrateResult result;
-  {
-    py::gil_scoped_release release;
-    result = volume.Integrate(range, pose);
-  }
+  // The GIL stays held (here and in extract_mesh): a volume is not safe to share between threads.
+  const IntegrateResult result = volume.Integrate(range, pose);
   py::dict out;
   out["integrated"] = result.integrated;
   out["pixels_used"] = result.pixels_used;
@@ -58,7 +55,6 @@ void DefineFusion(py::module_& m) {
       .def(
           "extract_mesh",
           [](const TsdfVolume& volume, double min_weight) {
-            py::gil_scoped_release release;
             return ExtractIsoSurface(volume, {.min_weight = min_weight});
           },
           py::arg("min_weight") = 0.0, "zero level set in tool [mm] (marching cubes)")

@@ -45,9 +45,8 @@ void DefineRecording(py::module_& m) {
       .def(
           "read_frame",
           [](const AhatRecording& r, std::int64_t index) {
-            const std::size_t i = CheckedIndex(r, index);
-            py::gil_scoped_release release;
-            return r.ReadFrame(i);
+            // The GIL stays held: one recording must not be read from two threads at once.
+            return r.ReadFrame(CheckedIndex(r, index));
           },
           py::arg("index"))
       .def("calibration", &AhatRecording::calibration,

@@ -26,6 +26,8 @@ def test_recording_depth_matches_truth_within_quantisation(simulated):
     assert "truth_range_f32.bin" in summary["files"]
     recording = tofnav.open_recording(out / "rm_depth_ahat.bin")
     assert recording.frame_count == 3 and len(recording) == 3
+    assert recording.format.startswith("hl2ss")
+    assert recording.calibration() is None  # hl2ss keeps it in the calibration folder
     times = recording.timestamps_s()
     np.testing.assert_allclose(np.diff(times), 1.0 / RATE_HZ, atol=TIMESTAMP_TOL_S)
     truth_range = np.fromfile(out / "truth_range_f32.bin", dtype="<f4").reshape(-1, 512, 512)
