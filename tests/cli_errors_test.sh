@@ -33,6 +33,16 @@ printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1
   >"$scratch/short.ply"
 expect_failure "short.ply" info "$scratch/short.ply"
 expect_failure "not an AHAT recording" convert "$scratch/random.bin" "$scratch/out_folder" --to stream-recorder
+printf '{"name": "pair", "markers": [[0, 0, 0], [50, 0, 0]]}' >"$scratch/pair.json"
+expect_failure "invalid tool" track "$scratch/random.bin" --tool "$scratch/pair.json" --out "$scratch/p.csv"
+expect_failure "not an AHAT recording" tool-define "$scratch/random.bin" --out "$scratch/t.json"
+printf 'frame,tool\n1,a\n' >"$scratch/bad_poses.csv"
+expect_failure "bad_poses.csv" evaluate tracking "$scratch/bad_poses.csv" --truth "$scratch/missing.json"
+expect_failure "unknown evaluator" evaluate no-such-thing
+expect_failure "--smoothing" fit-marker-error "$scratch/random.bin" --tool "$scratch/pair.json" --out "$scratch/f.json" --smoothing abc
+printf '{"format": "tofnav-marker-range-error", "knots_mm": [2, 1]}' >"$scratch/frf.json"
+printf '{"name": "tri", "markers": [[0, 0, 0], [50, 0, 0], [0, 60, 0]]}' >"$scratch/tri.json"
+expect_failure "frf.json" track "$scratch/random.bin" --tool "$scratch/tri.json" --marker-error "$scratch/frf.json" --out "$scratch/p.csv"
 "$tofnav" info --help >/dev/null || { echo "FAIL: info --help"; failures=$((failures + 1)); }
 
 [ $failures -eq 0 ] && echo "all CLI error checks passed"

@@ -7,5 +7,9 @@ namespace tofnav {
 int RunConvert(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
+int RunTrack(int argc, char** argv);
+int RunToolDefine(int argc, char** argv);
+int RunFitMarkerError(int argc, char** argv);
+int RunEvaluate(int argc, char** argv);
 
 }  // namespace tofnav

@@ -20,6 +20,11 @@ constexpr Command kCommands[] = {
     {"convert", "re-write a recording as hl2ss RAW/ZDEPTH or StreamRecorder", tofnav::RunConvert},
     {"simulate", "render a scenario into an hl2ss recording plus ground truth",
      tofnav::RunSimulate},
+    {"track", "poses of retro-reflective tools in a recording (CSV or JSON)", tofnav::RunTrack},
+    {"tool-define", "a tool's marker geometry from a recording of the tool", tofnav::RunToolDefine},
+    {"fit-marker-error", "f_rf, the retro-reflector range error, from linear-stage recordings",
+     tofnav::RunFitMarkerError},
+    {"evaluate", "compare outputs with ground truth (evaluate tracking, ...)", tofnav::RunEvaluate},
 };
 
 void PrintUsage() {
