@@ -25,6 +25,7 @@ constexpr double kFocalPx = 254.0;  // centre focal length of the simulated AHAT
 struct TruthTool {
   std::vector<Eigen::Vector3d> markers_in_tool;
   std::vector<double> diameters_mm;
+  std::vector<double> cutoffs_rad;  // retro-reflection entrance cut-off of each marker's material
 };
 
 Eigen::Vector3d Vector3(const Json& j) {
@@ -40,8 +41,9 @@ Rigid3d Matrix(const Json& j) {
   return Rigid3d::FromMatrix(m);
 }
 
-// Every marker of `tool` seen by >= min_pixels pixels and its blob apart (2 px gap) from every
-// other visible marker's blob: the frames in which a tracker can see the whole tool.
+// Every marker of `tool` seen by >= min_pixels pixels, within its material's retro-reflection
+// cut-off (a disc seen more obliquely reflects nothing), its blob (diameter f D / range) at
+// least 2 px apart from every other marker's: the frames in which the whole tool can be seen.
 bool FullyVisible(const Json& visible, const std::string& tool, const TruthTool& geometry,
                   const std::map<std::string, TruthTool>& tools, int min_pixels) {
   const Json& mine = visible.at(tool);
@@ -51,7 +53,12 @@ bool FullyVisible(const Json& visible, const std::string& tool, const TruthTool&
     return kFocalPx * diameter_mm / Vector3(m.at("centre_in_ahat")).norm();
   };
   for (const Json& m : mine) {
-    if (m.at("pixel_count").get<int>() < min_pixels || !m.contains("pixel_uv")) return false;
+    const double diameter_px = blob(tool, m);
+    const auto marker = m.at("marker").get<std::size_t>();
+    if (m.at("pixel_count").get<int>() < min_pixels || !m.contains("pixel_uv") ||
+        m.at("entrance_angle_rad").get<double>() >= geometry.cutoffs_rad.at(marker)) {
+      return false;
+    }
     const Eigen::Vector2d uv(m["pixel_uv"][0].get<double>(), m["pixel_uv"][1].get<double>());
     for (const auto& [other_name, others] : visible.items()) {
       for (const Json& o : others) {
@@ -59,7 +66,7 @@ bool FullyVisible(const Json& visible, const std::string& tool, const TruthTool&
           continue;
         }
         const Eigen::Vector2d ouv(o["pixel_uv"][0].get<double>(), o["pixel_uv"][1].get<double>());
-        if ((uv - ouv).norm() < 0.5 * (blob(tool, m) + blob(other_name, o)) + 2.0) return false;
+        if ((uv - ouv).norm() < 0.5 * (diameter_px + blob(other_name, o)) + 2.0) return false;
       }
     }
   }
@@ -82,6 +89,7 @@ OrderedJson EvaluationJson(const std::string& name, const ToolEvaluation& e) {
                 {"wrong_identities", e.wrong_identities},
                 {"raw", StatsJson(e.raw)},
                 {"filtered", StatsJson(e.filtered)},
+                {"raw_fully_visible", StatsJson(e.raw_fully_visible)},
                 {"static_frames", e.static_frames},
                 {"jitter_raw_mm", e.jitter_raw_mm ? OrderedJson(*e.jitter_raw_mm) : OrderedJson()},
                 {"jitter_filtered_mm",
@@ -106,6 +114,8 @@ void PrintText(const std::string& name, const ToolEvaluation& e) {
             << "  raw      position median " << e.raw.median_mm << " RMS " << e.raw.rms_mm
             << " max " << e.raw.max_mm << " mm; rotation median " << e.raw.median_deg << " RMS "
             << e.raw.rms_deg << " max " << e.raw.max_deg << " deg\n"
+            << "  raw, fully visible frames: position RMS " << e.raw_fully_visible.rms_mm
+            << " mm, rotation RMS " << e.raw_fully_visible.rms_deg << " deg\n"
             << "  filtered position median " << e.filtered.median_mm << " RMS " << e.filtered.rms_mm
             << " max " << e.filtered.max_mm << " mm; rotation median " << e.filtered.median_deg
             << " RMS " << e.filtered.rms_deg << " max " << e.filtered.max_deg << " deg\n"
@@ -124,13 +134,13 @@ int RunEvaluateTracking(int argc, char** argv) {
   std::filesystem::path poses_path, truth_path;
   bool json = false;
   int min_pixels = 4;
-  double wrong_deg = 3.0;
+  double wrong_deg = 10.0;
   TrackingEvaluationOptions options;
   app.add_option("poses", poses_path, "poses file (CSV or JSON) from tofnav track")->required();
   app.add_option("--truth", truth_path, "truth.json of the simulation")->required();
   app.add_option("--wrong-mm", options.wrong_translation_mm,
-                 "a pose farther than this from the truth is a wrong identity [mm] (3)");
-  app.add_option("--wrong-deg", wrong_deg, "... or turned by more than this [deg] (3)");
+                 "a pose farther than this from the truth is a wrong identity [mm] (10)");
+  app.add_option("--wrong-deg", wrong_deg, "... or turned by more than this [deg] (10)");
   app.add_option("--min-marker-pixels", min_pixels,
                  "pixels a marker needs to count as visible (4)");
   app.add_option("--jitter-warmup", options.jitter_warmup_frames,
@@ -146,10 +156,15 @@ int RunEvaluateTracking(int argc, char** argv) {
   try {
     const std::vector<std::uint8_t> bytes = ReadFileBytes(truth_path);
     truth = Json::parse(bytes.begin(), bytes.end());
+    std::map<std::string, double> cutoff_rad;
+    for (const Json& m : truth.at("materials")) {
+      cutoff_rad[m.at("name").get<std::string>()] = m.at("retro_entrance_cutoff_rad").get<double>();
+    }
     for (const auto& [name, tool] : truth.at("tools").items()) {
       for (const Json& m : tool.at("markers")) {
         tools[name].markers_in_tool.push_back(Vector3(m.at("centre_in_tool")));
         tools[name].diameters_mm.push_back(m.at("diameter_mm").get<double>());
+        tools[name].cutoffs_rad.push_back(cutoff_rad.at(m.at("material").get<std::string>()));
       }
     }
     const Json& frames = truth.at("frames");

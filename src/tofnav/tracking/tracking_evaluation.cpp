@@ -85,7 +85,7 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
   options.Check();
   ToolEvaluation e;
   e.frames = static_cast<int>(frames.size());
-  std::vector<double> raw_mm, raw_deg, filtered_mm, filtered_deg;
+  std::vector<double> raw_mm, raw_deg, filtered_mm, filtered_deg, visible_mm, visible_deg;
   std::map<long, std::pair<double, int>> bins;  // bin index -> (sum of bias, count)
   JitterSum raw_jitter, filtered_jitter;
   std::vector<Eigen::Vector3d> raw_run, filtered_run;
@@ -121,7 +121,11 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
       ++e.wrong_identities;
       continue;
     }
-    if (f.fully_visible) ++e.tracked_fully_visible;
+    if (f.fully_visible) {
+      ++e.tracked_fully_visible;
+      visible_mm.push_back(mm);
+      visible_deg.push_back(rad * kRadToDeg);
+    }
     raw_mm.push_back(mm);
     raw_deg.push_back(rad * kRadToDeg);
     for (const Eigen::Vector3d& m : markers_in_tool) {
@@ -144,6 +148,7 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
                            : 0.0;
   e.raw = Stats(raw_mm, raw_deg);
   e.filtered = Stats(filtered_mm, filtered_deg);
+  e.raw_fully_visible = Stats(visible_mm, visible_deg);
   e.jitter_raw_mm = raw_jitter.Value();
   e.jitter_filtered_mm = filtered_jitter.Value();
   for (const auto& [index, sum] : bins) {

@@ -22,8 +22,8 @@ struct ToolEvaluationFrame {
 struct TrackingEvaluationOptions {
   /// A raw pose farther from the truth than either is a wrong identity (another tool, a mirror
   /// or a symmetric flip), counted apart and left out of the error statistics.
-  double wrong_translation_mm = 3.0;
-  double wrong_rotation_rad = 0.0523598775598;  // 3 degrees
+  double wrong_translation_mm = 10.0;
+  double wrong_rotation_rad = 0.174532925199;  // 10 degrees
   /// Consecutive frames whose true pose moves less than this are one static run [mm, rad].
   double static_translation_mm = 1e-6;
   double static_rotation_rad = 1e-9;
@@ -55,6 +55,7 @@ struct ToolEvaluation {
   double tracked_fraction = 0.0;  // tracked_fully_visible / fully_visible_frames (0 when none)
   int wrong_identities = 0;       // raw poses beyond the wrong-identity thresholds
   PoseErrorStats raw, filtered;
+  PoseErrorStats raw_fully_visible;  // raw poses of fully visible frames only
   /// sqrt(trace(covariance)) of the position over static runs (pooled); nullopt without one.
   std::optional<double> jitter_raw_mm, jitter_filtered_mm;
   int static_frames = 0;  // frames that entered the jitter

@@ -51,6 +51,7 @@ TEST(TrackingEvaluation, ErrorsFractionAndWrongIdentities) {
   EXPECT_NEAR(e.raw.max_mm, 0.4, kTol);
   EXPECT_NEAR(e.raw.max_deg, 0.01 * 180.0 / std::numbers::pi, 1e-7);
   EXPECT_EQ(e.filtered.count, 0);
+  EXPECT_EQ(e.raw_fully_visible.count, 4);
   EXPECT_FALSE(e.jitter_raw_mm.has_value());
 }
 
@@ -62,7 +63,7 @@ TEST(TrackingEvaluation, StaticJitterAfterWarmUpAndRangeBias) {
   for (int i = 0; i < 8; ++i) {  // static at z = 450; raw alternates +-0.1 mm in x after warm-up
     ToolEvaluationFrame f;
     f.true_ahat_from_tool = At(0, 0, 450);
-    f.raw = At(i < 2 ? 5.0 : (i % 2 == 0 ? 0.1 : -0.1), 0, 450.5);
+    f.raw = At(i < 2 ? 15.0 : (i % 2 == 0 ? 0.1 : -0.1), 0, 450.5);
     f.filtered = At(0, 0, 450);
     frames.push_back(f);
   }
@@ -75,7 +76,7 @@ TEST(TrackingEvaluation, StaticJitterAfterWarmUpAndRangeBias) {
   EXPECT_EQ(e.static_frames, 6);
   ASSERT_EQ(e.range_bias.size(), 1u);
   EXPECT_EQ(e.range_bias[0].from_mm, 400.0);
-  EXPECT_EQ(e.range_bias[0].count, 7);  // frame 1 (5 mm off) is a wrong identity
+  EXPECT_EQ(e.range_bias[0].count, 7);  // frame 1 (15 mm off) is a wrong identity
   EXPECT_EQ(e.wrong_identities, 1);
 }
 
