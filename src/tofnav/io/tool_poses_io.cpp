@@ -1,21 +1,18 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Tool poses CSV and JSON: one record per frame and tool (docs/tracking.md section 3).
+// Tool poses CSV (and the helpers shared with the JSON codec): docs/tracking.md section 3.
 #include "tofnav/io/tool_poses_io.hpp"
 
 #include <array>
 #include <charconv>
 #include <cmath>
-#include <limits>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/tool_poses_internal.hpp"
 
 namespace tofnav {
 namespace {
-
-using Json = nlohmann::ordered_json;
 
 constexpr ToolStatus kStatuses[] = {ToolStatus::kOk, ToolStatus::kPartiallyOccluded,
                                     ToolStatus::kAmbiguous, ToolStatus::kTooFewMarkers,
@@ -24,8 +21,6 @@ constexpr double kUnitQuaternionTolerance = 1e-6;  // written with round-trip pr
 constexpr const char* kPoseColumns[] = {"qw", "qx", "qy", "qz", "x_mm", "y_mm", "z_mm"};
 constexpr const char* kPosePrefixes[] = {"", "filtered_", "world_"};
 constexpr std::size_t kScalarColumns = 9;
-constexpr std::int64_t kMaxInt64 = std::numeric_limits<std::int64_t>::max();
-constexpr std::int64_t kMaxMarkers = 1000;
 constexpr std::size_t kColumns = kScalarColumns + 3 * 7;
 
 std::string Header() {
@@ -54,16 +49,13 @@ void AppendPose(std::string& row, const std::optional<Rigid3d>& pose) {
   }
 }
 
-Json PoseJson(const std::optional<Rigid3d>& pose) {
-  if (!pose) return nullptr;
-  const Eigen::Quaterniond& q = pose->rotation;
-  const Eigen::Vector3d& t = pose->translation;
-  return Json{{"q_wxyz", {q.w(), q.x(), q.y(), q.z()}}, {"t_mm", {t.x(), t.y(), t.z()}}};
-}
+}  // namespace
 
-// A pose from 7 numbers (w, x, y, z, tx, ty, tz); the quaternion must be unit.
-std::optional<Rigid3d> PoseFrom(const std::array<double, 7>& v, const std::filesystem::path& path,
-                                std::optional<std::uint64_t> offset) {
+namespace internal {
+
+std::optional<Rigid3d> PoseFromValues(const std::array<double, 7>& v,
+                                      const std::filesystem::path& path,
+                                      std::optional<std::uint64_t> offset) {
   for (const double x : v) {
     if (!std::isfinite(x)) throw IoError(path, offset, "pose values must be finite");
   }
@@ -74,12 +66,19 @@ std::optional<Rigid3d> PoseFrom(const std::array<double, 7>& v, const std::files
   return Rigid3d(q, Eigen::Vector3d(v[4], v[5], v[6]));
 }
 
-ToolStatus StatusFrom(std::string_view name, const std::filesystem::path& path,
-                      std::optional<std::uint64_t> offset) {
+ToolStatus StatusFromName(std::string_view name, const std::filesystem::path& path,
+                          std::optional<std::uint64_t> offset) {
   const std::optional<ToolStatus> s = ParseToolStatus(name);
   if (!s) throw IoError(path, offset, "unknown status '" + std::string(name) + "'");
   return *s;
 }
+
+}  // namespace internal
+
+namespace {
+
+using internal::PoseFromValues;
+using internal::StatusFromName;
 
 template <typename T>
 T ParseField(std::string_view field, const std::filesystem::path& path, std::uint64_t offset,
@@ -131,7 +130,7 @@ std::vector<ToolPoseRecord> DecodeCsv(std::string_view text, const std::filesyst
     r.time_s = ParseField<double>(f[2], path, at[2], "a time [s]");
     if (f[3].empty()) throw IoError(path, at[3], "expected a tool name");
     r.tool = std::string(f[3]);
-    r.status = StatusFrom(f[4], path, at[4]);
+    r.status = StatusFromName(f[4], path, at[4]);
     r.markers_used = ParseField<int>(f[5], path, at[5], "a marker count");
     r.marker_count = ParseField<int>(f[6], path, at[6], "a marker count");
     r.fre_mm = ParseField<double>(f[7], path, at[7], "an FRE [mm]");
@@ -151,111 +150,11 @@ std::vector<ToolPoseRecord> DecodeCsv(std::string_view text, const std::filesyst
       for (std::size_t k = 0; k < 7; ++k) {
         v[k] = ParseField<double>(f[first + k], path, at[first + k], "a number");
       }
-      *poses[p] = PoseFrom(v, path, at[first]);
+      *poses[p] = PoseFromValues(v, path, at[first]);
     }
     records.push_back(std::move(r));
   }
   if (header) throw IoError(path, 0, "expected the header line " + Header());
-  return records;
-}
-
-const Json& Field(const Json& object, const char* key, const std::filesystem::path& path) {
-  const auto it = object.find(key);
-  if (it == object.end()) throw IoError(path, std::nullopt, std::string("missing \"") + key + "\"");
-  return *it;
-}
-
-// Integers are range-checked here: nlohmann converts out-of-range numbers without a check.
-std::int64_t GetInt(const Json& object, const char* key, std::int64_t min, std::int64_t max,
-                    const std::filesystem::path& path) {
-  const Json& v = Field(object, key, path);
-  if (!v.is_number_integer() ||
-      (v.is_number_unsigned() && v.get<std::uint64_t>() > static_cast<std::uint64_t>(kMaxInt64)) ||
-      v.get<std::int64_t>() < min || v.get<std::int64_t>() > max) {
-    throw IoError(path, std::nullopt,
-                  std::string("\"") + key + "\" must be an integer in [" + std::to_string(min) +
-                      ", " + std::to_string(max) + "]");
-  }
-  return v.get<std::int64_t>();
-}
-
-double GetDouble(const Json& object, const char* key, const std::filesystem::path& path) {
-  const Json& v = Field(object, key, path);
-  if (!v.is_number())
-    throw IoError(path, std::nullopt, std::string("\"") + key + "\" must be a number");
-  return v.get<double>();
-}
-
-std::string GetString(const Json& object, const char* key, const std::filesystem::path& path) {
-  const Json& v = Field(object, key, path);
-  if (!v.is_string())
-    throw IoError(path, std::nullopt, std::string("\"") + key + "\" must be a string");
-  return v.get<std::string>();
-}
-
-std::vector<double> GetNumbers(const Json& object, const char* key, std::size_t count,
-                               const std::filesystem::path& path) {
-  const Json& v = Field(object, key, path);
-  std::vector<double> out;
-  if (v.is_array() && v.size() == count) {
-    for (const Json& x : v) {
-      if (!x.is_number()) break;
-      out.push_back(x.get<double>());
-    }
-  }
-  if (out.size() != count) {
-    throw IoError(path, std::nullopt,
-                  std::string("\"") + key + "\" must be " + std::to_string(count) + " numbers");
-  }
-  return out;
-}
-
-std::optional<Rigid3d> PoseFromJson(const Json& record, const char* key,
-                                    const std::filesystem::path& path) {
-  const auto it = record.find(key);
-  if (it == record.end() || it->is_null()) return std::nullopt;
-  if (!it->is_object()) throw IoError(path, std::nullopt, std::string(key) + " must be an object");
-  const std::vector<double> q = GetNumbers(*it, "q_wxyz", 4, path);
-  const std::vector<double> t = GetNumbers(*it, "t_mm", 3, path);
-  return PoseFrom({q[0], q[1], q[2], q[3], t[0], t[1], t[2]}, path, std::nullopt);
-}
-
-std::vector<ToolPoseRecord> DecodeJson(std::string_view text, const std::filesystem::path& path) {
-  Json json;
-  try {
-    json = Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
-    throw IoError(path, e.byte > 0 ? e.byte - 1 : 0, std::string("malformed JSON: ") + e.what());
-  } catch (const Json::exception& e) {
-    throw IoError(path, std::nullopt, std::string("malformed JSON: ") + e.what());
-  }
-  if (!json.is_object() || json.value("format", Json()) != "tofnav-tool-poses") {
-    throw IoError(path, std::nullopt, "expected {\"format\": \"tofnav-tool-poses\", ...}");
-  }
-  const auto records_it = json.find("records");
-  if (records_it == json.end() || !records_it->is_array()) {
-    throw IoError(path, std::nullopt, "expected \"records\": [...]");
-  }
-  std::vector<ToolPoseRecord> records;
-  for (const Json& j : *records_it) {
-    if (!j.is_object()) throw IoError(path, std::nullopt, "records must be objects");
-    ToolPoseRecord r;
-    r.frame = GetInt(j, "frame", 0, kMaxInt64, path);
-    r.host_ticks = static_cast<std::uint64_t>(GetInt(j, "host_ticks", 0, kMaxInt64, path));
-    r.time_s = GetDouble(j, "time_s", path);
-    r.tool = GetString(j, "tool", path);
-    r.status = StatusFrom(GetString(j, "status", path), path, std::nullopt);
-    r.markers_used = static_cast<int>(GetInt(j, "markers_used", 0, kMaxMarkers, path));
-    r.marker_count = static_cast<int>(GetInt(j, "marker_count", 0, kMaxMarkers, path));
-    r.fre_mm = GetDouble(j, "fre_mm", path);
-    const Json& gated = Field(j, "gated", path);
-    if (!gated.is_boolean()) throw IoError(path, std::nullopt, "\"gated\" must be true or false");
-    r.gated = gated.get<bool>();
-    r.ahat_from_tool = PoseFromJson(j, "ahat_from_tool", path);
-    r.filtered_ahat_from_tool = PoseFromJson(j, "filtered_ahat_from_tool", path);
-    r.world_from_tool = PoseFromJson(j, "world_from_tool", path);
-    records.push_back(std::move(r));
-  }
   return records;
 }
 
@@ -287,29 +186,11 @@ std::string EncodeToolPosesCsv(std::span<const ToolPoseRecord> records) {
   return out;
 }
 
-std::string EncodeToolPosesJson(std::span<const ToolPoseRecord> records) {
-  Json json{{"format", "tofnav-tool-poses"}, {"version", 1}, {"records", Json::array()}};
-  for (const ToolPoseRecord& r : records) {
-    json["records"].push_back(Json{{"frame", r.frame},
-                                   {"host_ticks", r.host_ticks},
-                                   {"time_s", r.time_s},
-                                   {"tool", r.tool},
-                                   {"status", ToString(r.status)},
-                                   {"markers_used", r.markers_used},
-                                   {"marker_count", r.marker_count},
-                                   {"fre_mm", r.fre_mm},
-                                   {"gated", r.gated},
-                                   {"ahat_from_tool", PoseJson(r.ahat_from_tool)},
-                                   {"filtered_ahat_from_tool", PoseJson(r.filtered_ahat_from_tool)},
-                                   {"world_from_tool", PoseJson(r.world_from_tool)}});
-  }
-  return json.dump(1) + "\n";
-}
-
 std::vector<ToolPoseRecord> DecodeToolPoses(std::string_view text,
                                             const std::filesystem::path& path) {
   const std::size_t first = text.find_first_not_of(" \t\r\n");
-  if (first != std::string_view::npos && text[first] == '{') return DecodeJson(text, path);
+  if (first != std::string_view::npos && text[first] == '{')
+    return internal::DecodeToolPosesJson(text, path);
   return DecodeCsv(text, path);
 }
 
