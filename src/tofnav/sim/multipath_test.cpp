@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
 
 #include "tofnav/sim/render.hpp"
 #include "tofnav/sim/sim_test_scenes.hpp"
@@ -83,6 +84,9 @@ TEST(Multipath, AConcaveCornerReadsFartherSymmetricallyAndMoreWithGain) {
   EXPECT_NEAR(left_mm, right_mm, kSymmetryMm);
   // The phase pull atan(g a) grows with the gain, less than linearly.
   const double half_mm = MeanBiasMm(half, off, -1);
+  RecordProperty("mean_bias_left_mm", std::to_string(left_mm));
+  RecordProperty("mean_bias_right_mm", std::to_string(right_mm));
+  RecordProperty("mean_bias_left_half_gain_mm", std::to_string(half_mm));
   EXPECT_GT(half_mm, 0.3 * left_mm);
   EXPECT_LT(half_mm, 0.8 * left_mm);
 }
