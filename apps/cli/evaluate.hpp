@@ -13,6 +13,8 @@ struct Evaluator {
 /// Adds an evaluator to `tofnav evaluate`. Call it from a namespace-scope initialiser of the
 /// evaluator's own file (adding an evaluator = one new file in apps/cli/CMakeLists.txt):
 ///   [[maybe_unused]] const bool kRegistered = RegisterEvaluator({"depth", "...", RunDepth});
+/// The file must be a source of the tofnav executable itself: in a static library the linker
+/// would drop the unreferenced object and its registration with it.
 bool RegisterEvaluator(const Evaluator& evaluator);
 
 }  // namespace tofnav
