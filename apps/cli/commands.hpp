@@ -5,6 +5,10 @@
 namespace tofnav {
 
 int RunConvert(int argc, char** argv);
+int RunCorrect(int argc, char** argv);
+int RunEvaluate(int argc, char** argv);
+int RunEvaluateDepth(int argc, char** argv);  // tofnav evaluate depth
+int RunIdentify(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 

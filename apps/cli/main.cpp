@@ -20,6 +20,11 @@ constexpr Command kCommands[] = {
     {"convert", "re-write a recording as hl2ss RAW/ZDEPTH or StreamRecorder", tofnav::RunConvert},
     {"simulate", "render a scenario into an hl2ss recording plus ground truth",
      tofnav::RunSimulate},
+    {"identify", "identify the patient-specific depth-error model (Eq. 3-7)",
+     tofnav::RunIdentify},
+    {"correct", "apply a depth model to a recording (corrected recording or point clouds)",
+     tofnav::RunCorrect},
+    {"evaluate", "evaluate against ground truth (evaluate depth)", tofnav::RunEvaluate},
 };
 
 void PrintUsage() {
