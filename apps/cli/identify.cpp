@@ -61,12 +61,20 @@ int RunIdentify(int argc, char** argv) {
   app.add_option("--max-frames", max_frames, "frames used, evenly spread")
       ->check(CLI::PositiveNumber);
   app.add_option("--model", angle_term, "angle term: theta (paper), theta2, 1-cos");
+  std::vector<double> start_values;
+  app.add_option("--start", start_values, "start values C1 C2 C3 [C4] (default 0)")->expected(3, 4);
   app.add_flag("--intensity", intensity, "add the AB term C4 ln(AB_ref / AB)");
   app.add_option("--cross-validate", folds, "compare the model variants on K held-out blocks");
   app.add_option("--roi-radius-mm", sampling.segmentation.roi_radius_mm,
                  "head ROI around the markers' centroid [mm]");
+  app.add_option("--transition-px", sampling.segmentation.transition_dilation_px,
+                 "transitional band around markers, dropped [px]");
+  app.add_option("--patch-radius-mm", sampling.patch_radius_mm,
+                 "head points around a marker for its cubic surface [mm]");
   app.add_option("--ab-threshold", sampling.segmentation.marker_ab_threshold,
                  "marker AB threshold [counts]");
+  app.add_option("--marker-thickness-mm", options.marker_thickness_mm,
+                 "sticker thickness: markers lie this far outside the skin [mm]");
   app.add_option("--huber-mm", options.huber_scale_mm, "robust (Huber) scale [mm], 0 = off");
   app.add_option("--correctness-frames", options.max_correctness_frames,
                  "frames that run an ICP for Err_C");
@@ -81,6 +89,10 @@ int RunIdentify(int argc, char** argv) {
   DepthErrorModel start;
   start.angle_term = ParseAngleTerm(angle_term);
   start.use_intensity = intensity;
+  if (!start_values.empty()) {
+    start_values.resize(intensity ? 4 : 3, 0.0);
+    SetModelParameters(start, start_values);
+  }
 
   std::vector<IdentificationFrame> frames;
   {
@@ -97,24 +109,30 @@ int RunIdentify(int argc, char** argv) {
   std::optional<SurfaceIndex> skin;
   if (!ct_path.empty()) skin.emplace(SkinFromCt(ct_path, iso_hu));
   if (!skin_path.empty()) skin.emplace(ReadMesh(skin_path));
-  CorrectnessTarget target;
+  DepthModelFile file;
+  // Stage 1: smoothness only (no CT needed, cheap). Stage 2 (with a skin): both costs from there,
+  // with the skin registered once to head clouds corrected by the stage-1 model.
+  file.model = IdentifyDepthModel(frames, nullptr, start, options);
   nlohmann::ordered_json registration_report;
   if (skin) {
-    const InitialPoseResult pose = InitialImageFromAhat(frames, *skin, start);
-    target = {&*skin, pose.image_from_ahat};
+    const double stage1_s = file.model.report.seconds;
+    const InitialPoseResult pose = InitialImageFromAhat(frames, *skin, file.model);
+    const CorrectnessTarget target{&*skin, pose.image_from_ahat};
     registration_report = {
         {"reference_frame", frames[static_cast<std::size_t>(pose.reference_frame)].index},
-        {"accepted", pose.registration.quality.accepted()},
-        {"icp_rmse_mm", pose.registration.icp.rmse_mm}};
-  }
-  DepthModelFile file;
-  file.model = IdentifyDepthModel(frames, skin ? &target : nullptr, start, options);
-  file.marker_range = frf;
-  if (folds >= 2) {
-    const std::vector<DepthErrorModel> candidates = DefaultModelCandidates();
+        {"icp_rmse_mm", pose.registration.icp.rmse_mm},
+        {"icp_inlier_fraction", pose.registration.icp.inlier_fraction}};
+    file.model = IdentifyDepthModel(frames, &target, file.model, options);
+    file.model.report.seconds += stage1_s;
+    if (folds >= 2) {
+      file.model.report.cross_validation =
+          CrossValidateModels(frames, &target, DefaultModelCandidates(), folds, options);
+    }
+  } else if (folds >= 2) {
     file.model.report.cross_validation =
-        CrossValidateModels(frames, skin ? &target : nullptr, candidates, folds, options);
+        CrossValidateModels(frames, nullptr, DefaultModelCandidates(), folds, options);
   }
+  file.marker_range = frf;
   WriteDepthModelJson(out_path, file);
 
   const DepthErrorModel& m = file.model;

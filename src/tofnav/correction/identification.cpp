@@ -84,7 +84,8 @@ Evaluation Evaluate(std::span<const IdentificationFrame> frames, const Correctne
     const double k = static_cast<double>(frame.markers.size());
     double sum_sq = 0.0;
     for (const MarkerPatch& patch : frame.markers) {
-      const std::vector<double> d = SmoothnessDistances(patch, model);
+      std::vector<double> d = SmoothnessDistances(patch, model);
+      for (double& x : d) x -= options.marker_thickness_mm;
       const double n = static_cast<double>(patch.marker_points.size());
       for (std::size_t i = 0; i < patch.marker_points.size(); ++i) {
         // A singular fit keeps the residual count: count it as one scale away.
@@ -100,8 +101,9 @@ Evaluation Evaluate(std::span<const IdentificationFrame> frames, const Correctne
   ParallelFor(0, static_cast<std::int64_t>(plan.frames.size()), [&](std::int64_t ci) {
     const auto c = static_cast<std::size_t>(ci);
     const auto f = static_cast<std::size_t>(plan.frames[c]);
-    const CorrectnessFrame result = CorrectnessDistances(frames[f], model, *target->skin_in_image,
-                                                         plan.guesses[c], options.correctness);
+    CorrectnessFrame result = CorrectnessDistances(frames[f], model, *target->skin_in_image,
+                                                   plan.guesses[c], options.correctness);
+    for (double& x : result.distances) x -= options.marker_thickness_mm;
     const double n = static_cast<double>(result.distances.size());
     for (double d : result.distances) {
       e.correct[c].push_back(plan.weight * Robust(d, h) / std::sqrt(n));
@@ -136,7 +138,8 @@ std::vector<T> WithoutBlock(std::span<const T> items, std::size_t lo, std::size_
 }  // namespace
 
 void IdentificationOptions::Check() const {
-  if (!(huber_scale_mm >= 0.0) || max_correctness_frames < 0 || difference_steps.size() != 4) {
+  if (!(huber_scale_mm >= 0.0) || !(std::abs(marker_thickness_mm) < 10.0) ||
+      max_correctness_frames < 0 || difference_steps.size() != 4) {
     throw std::invalid_argument(
         "IdentificationOptions: need huber_scale_mm >= 0, max_correctness_frames >= 0 and four "
         "difference_steps");

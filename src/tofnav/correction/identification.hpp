@@ -24,11 +24,13 @@ struct CorrectnessTarget {
 };
 
 struct IdentificationOptions {
+  /// Sticker thickness: marker points lie this far outside the skin [mm] (both costs).
+  double marker_thickness_mm = 0.0;
   /// Huber scale of the point distances [mm]; 0 = plain least squares.
   double huber_scale_mm = 1.0;
   /// Frames (evenly chosen among those with a guess) that run an ICP per evaluation for Err_C;
   /// their sum is re-weighted to count as much as all frames' Err_S would.
-  int max_correctness_frames = 30;
+  int max_correctness_frames = 12;
   CorrectnessOptions correctness;
   LevenbergMarquardtOptions lm;
   /// Central-difference steps of C1 [mm], C2 [1], C3 [mm per unit g], C4 [mm].

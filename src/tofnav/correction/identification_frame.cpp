@@ -9,6 +9,7 @@
 
 #include "tofnav/correction/correct_range.hpp"
 #include "tofnav/correction/depth_error_model.hpp"
+#include "tofnav/correction/surface_costs.hpp"
 
 namespace tofnav {
 namespace {
@@ -46,6 +47,53 @@ void SetLocalFrame(MarkerPatch& patch) {
   patch.origin_in_ahat = mean;
 }
 
+// Median and MAD-based spread (1.4826 MAD) of values.
+std::pair<double, double> MedianSpread(std::vector<double> v) {
+  if (v.empty()) return {0.0, 0.0};
+  auto median = [](std::vector<double>& x) {
+    const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
+    std::nth_element(x.begin(), mid, x.end());
+    return *mid;
+  };
+  const double m = median(v);
+  for (double& x : v) x = std::abs(x - m);
+  return {m, 1.4826 * median(v)};
+}
+
+// Drops what does not belong to the smooth skin around the marker, judged on the measured points
+// (no model: the bias moves the surface smoothly, it does not make outliers): neighbours off the
+// cubic surface (flying pixels, a sticker seen beyond its retro-reflection cut-off, hair) and
+// marker points off the marker's own offset (rim pixels mixed with the skin).
+void DropOutliers(MarkerPatch& patch, const IdentificationSampling& sampling) {
+  const DepthErrorModel measured;
+  for (int pass = 0; pass < 2; ++pass) {
+    MarkerPatch probe = patch;
+    probe.marker_points.clear();
+    for (const SurfaceSample& s : patch.neighbours) {
+      probe.marker_points.push_back(CorrectedPoint(s, measured));
+    }
+    const std::vector<double> d = SmoothnessDistances(probe, measured);
+    if (d.size() != patch.neighbours.size()) return;
+    const auto [m, spread] = MedianSpread(d);
+    const double limit = std::max(3.0 * spread, sampling.min_outlier_mm);
+    std::vector<SurfaceSample> kept;
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      if (std::abs(d[i] - m) <= limit) kept.push_back(patch.neighbours[i]);
+    }
+    patch.neighbours = std::move(kept);
+    if (static_cast<int>(patch.neighbours.size()) < sampling.min_patch_points) return;
+  }
+  const std::vector<double> d = SmoothnessDistances(patch, measured);
+  if (d.size() != patch.marker_points.size()) return;
+  const auto [m, spread] = MedianSpread(d);
+  const double limit = std::max(3.0 * spread, sampling.min_outlier_mm);
+  Points3d kept;
+  for (std::size_t i = 0; i < d.size(); ++i) {
+    if (std::abs(d[i] - m) <= limit) kept.push_back(patch.marker_points[i]);
+  }
+  patch.marker_points = std::move(kept);
+}
+
 MarkerPatch MakePatch(const MarkerArea& area, const Image<float>& surface_range,
                       const FrameSegmentation& seg, const AhatFrame& frame,
                       const AhatCamera& camera, const MarkerRangeModel& marker_model,
@@ -80,7 +128,10 @@ MarkerPatch MakePatch(const MarkerArea& area, const Image<float>& surface_range,
     const auto s = Sample(surface_range, frame, camera, px.x(), px.y(), sampling.normals);
     if (s) patch.neighbours.push_back(*s);
   }
-  if (static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) SetLocalFrame(patch);
+  if (static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) {
+    SetLocalFrame(patch);
+    DropOutliers(patch, sampling);
+  }
   return patch;
 }
 

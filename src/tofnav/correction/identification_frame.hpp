@@ -47,12 +47,14 @@ struct IdentificationFrame {
 struct IdentificationSampling {
   SegmentationOptions segmentation = {.roi_radius_mm = 130.0};
   RangeNormalOptions normals;
-  double patch_radius_mm = 22.0;  // head points around a marker for its cubic surface
+  double patch_radius_mm = 30.0;  // head points around a marker for its cubic surface
   int min_patch_points = 40;      // fewer: the marker is left out of Err_S
   int max_patch_points = 160;     // evenly subsampled beyond
   int max_marker_points = 48;     // per marker
-  int max_head_points = 800;      // per frame, for the ICP
-  void Check() const;             // throws std::invalid_argument naming the bad field
+  int max_head_points = 500;      // per frame, for the ICP
+  /// Outliers (judged on the measured points) lie beyond max(3 x 1.4826 MAD, this) [mm].
+  double min_outlier_mm = 1.5;
+  void Check() const;  // throws std::invalid_argument naming the bad field
 };
 
 /// Segments the frame, corrects marker pixels with Eq. (2) and samples the head surface (with
