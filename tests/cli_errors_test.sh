@@ -33,6 +33,12 @@ printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1
   >"$scratch/short.ply"
 expect_failure "short.ply" info "$scratch/short.ply"
 expect_failure "not an AHAT recording" convert "$scratch/random.bin" "$scratch/out_folder" --to stream-recorder
+printf '{"format": "tofnav-depth-model", "version": 1}' >"$scratch/model.json"
+expect_failure "model.json" correct "$scratch/random.bin" --calibration "$scratch" \
+  --depth-model "$scratch/model.json" --out "$scratch/c.bin"
+expect_failure "usage: tofnav evaluate" evaluate no-such-evaluator
+expect_failure "calibration folder" evaluate depth "$scratch/random.bin" --truth "$scratch" \
+  --calibration "$scratch"
 "$tofnav" info --help >/dev/null || { echo "FAIL: info --help"; failures=$((failures + 1)); }
 
 [ $failures -eq 0 ] && echo "all CLI error checks passed"

@@ -39,9 +39,9 @@ int RunCorrect(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   CLI11_PARSE(app, argc, argv);
 
+  const DepthModelFile model = ReadDepthModelJson(model_path);
   const AhatCamera camera(ReadHl2ssCalibration(calibration_path, sample_offset));
   const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
-  const DepthModelFile model = ReadDepthModelJson(model_path);
   if (model.marker_range) options.marker_model = *model.marker_range;
   if (!frf_path.empty()) options.marker_model = ReadMarkerRangeJson(frf_path);
   options.roi_only = !all_pixels;
