@@ -101,7 +101,8 @@ inline Eigen::Vector3d SpherePoint(const Eigen::Vector3d& centre, const Eigen::V
 // One frame: a sphere head at `centre` (camera at the origin) with three markers (curved 5 mm
 // stickers, exact on the sphere and unbiased) at various angles from the view axis.
 inline IdentificationFrame SphereFrame(int index, const Eigen::Vector3d& centre,
-                                       const DepthErrorModel& model) {
+                                       const DepthErrorModel& model, int ring_points = 8,
+                                       double ring_step_mm = 4.3) {
   IdentificationFrame frame;
   frame.index = index;
   const Eigen::Vector3d toward = -centre.normalized();
@@ -117,11 +118,12 @@ inline IdentificationFrame SphereFrame(int index, const Eigen::Vector3d& centre,
             SpherePoint(centre, axis.normalized(), r / kHeadRadiusMm, i * kPi / 4));
       }
     }
-    for (double r = 9.0; r <= 22.0; r += 4.3) {
-      for (int i = 0; i < 8; ++i) {
-        patch.neighbours.push_back(SphereSample(
-            SpherePoint(centre, axis.normalized(), r / kHeadRadiusMm, (i + 0.3 * r) * kPi / 4),
-            centre, model));
+    for (double r = 9.0; r <= 22.0; r += ring_step_mm) {
+      for (int i = 0; i < ring_points; ++i) {
+        patch.neighbours.push_back(
+            SphereSample(SpherePoint(centre, axis.normalized(), r / kHeadRadiusMm,
+                                     (i + 0.3 * r) * 2 * kPi / ring_points),
+                         centre, model));
       }
     }
     // Local frame as PrepareIdentificationFrame sets it (origin, z towards the camera).
