@@ -12,7 +12,12 @@ function(tofnav_target_options target)
                                            $<$<CXX_COMPILER_ID:Clang>:-Wno-sign-conversion>
                                            # GCC 12 -O3 false positive on string concatenation
                                            # (GCC bug 105329)
-                                           $<$<CXX_COMPILER_ID:GNU>:-Wno-restrict>)
+                                           $<$<CXX_COMPILER_ID:GNU>:-Wno-restrict>
+                                           # GCC 12 -O3 false positives on std::vector and
+                                           # std::optional members of inlined option structs
+                                           # (GCC bug 107138 and kin); real uninitialised reads
+                                           # are caught by -Wuninitialized, UBSan and the fuzzers
+                                           $<$<CXX_COMPILER_ID:GNU>:-Wno-maybe-uninitialized>)
   if(TOFNAV_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()

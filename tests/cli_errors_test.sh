@@ -49,6 +49,12 @@ expect_failure "--smoothing" fit-marker-error "$scratch/random.bin" --tool "$scr
 printf '{"format": "tofnav-marker-range-error", "knots_mm": [2, 1]}' >"$scratch/frf.json"
 printf '{"name": "tri", "markers": [[0, 0, 0], [50, 0, 0], [0, 60, 0]]}' >"$scratch/tri.json"
 expect_failure "frf.json" track "$scratch/random.bin" --tool "$scratch/tri.json" --marker-error "$scratch/frf.json" --out "$scratch/p.csv"
+printf '{"format": "tofnav-depth-model", "version": 1}' >"$scratch/model.json"
+expect_failure "model.json" correct "$scratch/random.bin" --calibration "$scratch" \
+  --depth-model "$scratch/model.json" --out "$scratch/c.bin"
+expect_failure "usage: tofnav evaluate" evaluate no-such-evaluator
+expect_failure "calibration folder" evaluate depth "$scratch/random.bin" --truth "$scratch" \
+  --calibration "$scratch"
 "$tofnav" info --help >/dev/null || { echo "FAIL: info --help"; failures=$((failures + 1)); }
 
 [ $failures -eq 0 ] && echo "all CLI error checks passed"

@@ -5,6 +5,9 @@
 namespace tofnav {
 
 int RunConvert(int argc, char** argv);
+int RunCorrect(int argc, char** argv);
+int RunEvaluate(int argc, char** argv);
+int RunIdentify(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 int RunSkin(int argc, char** argv);
@@ -12,6 +15,5 @@ int RunRegister(int argc, char** argv);
 int RunTrack(int argc, char** argv);
 int RunToolDefine(int argc, char** argv);
 int RunFitMarkerError(int argc, char** argv);
-int RunEvaluate(int argc, char** argv);
 
 }  // namespace tofnav

@@ -27,7 +27,11 @@ constexpr Command kCommands[] = {
     {"tool-define", "a tool's marker geometry from a recording of the tool", tofnav::RunToolDefine},
     {"fit-marker-error", "f_rf, the retro-reflector range error, from linear-stage recordings",
      tofnav::RunFitMarkerError},
-    {"evaluate", "compare outputs with ground truth (evaluate tracking, ...)", tofnav::RunEvaluate},
+    {"identify", "identify the patient-specific depth-error model (Eq. 3-7)", tofnav::RunIdentify},
+    {"correct", "apply a depth model to a recording (corrected recording or point clouds)",
+     tofnav::RunCorrect},
+    {"evaluate", "compare outputs with ground truth (evaluate tracking | depth | ...)",
+     tofnav::RunEvaluate},
 };
 
 void PrintUsage() {
