@@ -39,6 +39,16 @@ expect_failure "short.ply" register "$scratch/short.ply" "$scratch/short.ply" --
 printf '{"markups":[{"type":"Line"}]}' >"$scratch/plan.mrk.json"
 expect_failure "exactly 2 defined control points" register "$scratch/short.ply" "$scratch/short.ply" \
   --out "$scratch/t.json" --plan "$scratch/plan.mrk.json"
+printf '{"name": "pair", "markers": [[0, 0, 0], [50, 0, 0]]}' >"$scratch/pair.json"
+expect_failure "invalid tool" track "$scratch/random.bin" --tool "$scratch/pair.json" --out "$scratch/p.csv"
+expect_failure "not an AHAT recording" tool-define "$scratch/random.bin" --out "$scratch/t.json"
+printf 'frame,tool\n1,a\n' >"$scratch/bad_poses.csv"
+expect_failure "bad_poses.csv" evaluate tracking "$scratch/bad_poses.csv" --truth "$scratch/missing.json"
+expect_failure "unknown evaluator" evaluate no-such-thing
+expect_failure "--smoothing" fit-marker-error "$scratch/random.bin" --tool "$scratch/pair.json" --out "$scratch/f.json" --smoothing abc
+printf '{"format": "tofnav-marker-range-error", "knots_mm": [2, 1]}' >"$scratch/frf.json"
+printf '{"name": "tri", "markers": [[0, 0, 0], [50, 0, 0], [0, 60, 0]]}' >"$scratch/tri.json"
+expect_failure "frf.json" track "$scratch/random.bin" --tool "$scratch/tri.json" --marker-error "$scratch/frf.json" --out "$scratch/p.csv"
 "$tofnav" info --help >/dev/null || { echo "FAIL: info --help"; failures=$((failures + 1)); }
 
 [ $failures -eq 0 ] && echo "all CLI error checks passed"

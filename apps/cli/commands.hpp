@@ -9,5 +9,9 @@ int RunInfo(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 int RunSkin(int argc, char** argv);
 int RunRegister(int argc, char** argv);
+int RunTrack(int argc, char** argv);
+int RunToolDefine(int argc, char** argv);
+int RunFitMarkerError(int argc, char** argv);
+int RunEvaluate(int argc, char** argv);
 
 }  // namespace tofnav

@@ -23,6 +23,11 @@ constexpr Command kCommands[] = {
     {"skin", "extract the outer skin surface of a CT/MR volume as a mesh", tofnav::RunSkin},
     {"register", "register the CT skin to the reconstructed head (or to fiducials)",
      tofnav::RunRegister},
+    {"track", "poses of retro-reflective tools in a recording (CSV or JSON)", tofnav::RunTrack},
+    {"tool-define", "a tool's marker geometry from a recording of the tool", tofnav::RunToolDefine},
+    {"fit-marker-error", "f_rf, the retro-reflector range error, from linear-stage recordings",
+     tofnav::RunFitMarkerError},
+    {"evaluate", "compare outputs with ground truth (evaluate tracking, ...)", tofnav::RunEvaluate},
 };
 
 void PrintUsage() {

@@ -3,6 +3,7 @@
 #include "tofnav/io/simulate.hpp"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <chrono>
 #include <cstdlib>
 #include <iostream>
@@ -12,6 +13,7 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "tofnav/io/patient_head.hpp"
 #include "tofnav/io/scenario_json.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 
@@ -32,6 +34,10 @@ int RunSimulate(int argc, char** argv) {
       {"raw", Hl2ssDepthProfile::kSame}, {"zdepth", Hl2ssDepthProfile::kZdepth}};
   app.add_option("scenario", scenario_name, "scenario .json file or built-in name (see --list)");
   app.add_option("--out", out_dir, "output folder (created if missing)");
+  std::string head;
+  app.add_option("--head", head,
+                 "patient head of a built-in scenario: phantom, mesh:<skin.ply> or ct:<volume> "
+                 "(e.g. ct:/usr/share/doc/invesalius-examples/examples/Cranium.inv3)");
   app.add_option("--frames", frames, "render only the first N frames")->check(CLI::PositiveNumber);
   app.add_option("--seed", seed, "random seed (default: the scenario's)");
   app.add_option("--profile", options.profile, "depth profile of the recording: raw or zdepth")
@@ -53,7 +59,19 @@ int RunSimulate(int argc, char** argv) {
     std::cerr << "tofnav simulate: a scenario and --out DIR are required (--help)\n";
     return EXIT_FAILURE;
   }
-  sim::Scenario scenario = LoadScenario(scenario_name);
+  sim::Scenario scenario;
+  if (head.empty()) {
+    scenario = LoadScenario(scenario_name);
+  } else {
+    const std::vector<std::string> names = sim::BuiltinScenarioNames();
+    if (std::find(names.begin(), names.end(), scenario_name) == names.end()) {
+      std::cerr << "tofnav simulate: --head applies to built-in scenarios; a scenario file names "
+                   "its head in patient.head\n";
+      return EXIT_FAILURE;
+    }
+    const sim::PatientHead patient_head = LoadPatientHead(head);
+    scenario = sim::BuiltinScenario(scenario_name, &patient_head);
+  }
   options.frames = frames;
   options.seed = seed;
   ProgressBar progress("simulate " + scenario.name, quiet || json);

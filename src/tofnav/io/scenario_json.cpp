@@ -8,6 +8,7 @@
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
 #include "tofnav/io/mesh_io.hpp"
+#include "tofnav/io/patient_head.hpp"
 #include "tofnav/io/scenario_json_internal.hpp"
 #include "tofnav/sim/patient.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
@@ -188,23 +189,16 @@ class ScenarioBuilder {
     JsonFields in(json, at);
     std::string head = "phantom";
     in.Read("head", head);
-    if (head == "phantom") {
-      sim::HeadPhantomOptions options;
-      if (const Json* j = in.Find("phantom")) {
-        JsonFields p(*j, in.At("phantom"));
-        options = internal::ParsePhantomOptions(p);
-        p.Finish();
-      }
-      head_ = sim::PhantomHead(options);
-    } else if (head.rfind("mesh:", 0) == 0) {
-      const std::filesystem::path path = base_ / head.substr(5);
-      head_ = sim::MeshHead(ReadMesh(path), "mesh:" + path.string());
-    } else if (head.rfind("ct:", 0) == 0) {
-      Fail(in.At("head"),
-           "'ct:' heads need skin extraction from the CT (not yet available); "
-           "use \"phantom\" or \"mesh:<skin mesh in CT LPS mm>\"");
-    } else {
-      Fail(in.At("head"), "expected \"phantom\", \"mesh:<path>\" or \"ct:<path>\"");
+    sim::HeadPhantomOptions phantom_options;
+    if (const Json* j = in.Find("phantom")) {
+      JsonFields p(*j, in.At("phantom"));
+      phantom_options = internal::ParsePhantomOptions(p);
+      p.Finish();
+    }
+    try {
+      head_ = LoadPatientHead(head, base_, phantom_options);
+    } catch (const std::invalid_argument& e) {
+      Fail(in.At(head == "phantom" ? "phantom" : "head"), e.what());
     }
     if (const Json* j = in.Find("anatomy")) {
       JsonFields a(*j, in.At("anatomy"));

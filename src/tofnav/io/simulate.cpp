@@ -10,7 +10,9 @@
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/mesh_io.hpp"
+#include "tofnav/io/patient_head.hpp"
 #include "tofnav/io/plan_markups.hpp"
+#include "tofnav/io/tool_json.hpp"
 #include "tofnav/io/truth_json.hpp"
 #include "tofnav/io/volume_io.hpp"
 #include "tofnav/sim/random.hpp"
@@ -28,13 +30,19 @@ constexpr const char* kTruthRangeName = "truth_range_f32.bin";
 constexpr const char* kCtName = "ct.nrrd";
 constexpr const char* kSkinName = "skin_truth.ply";
 constexpr const char* kPlanName = "plan.mrk.json";
+constexpr const char* kToolsDir = "tools";
 
 // ct.nrrd, skin_truth.ply and plan.mrk.json of the scenario's patient.
 void WritePatientFiles(const sim::Scenario& s, const std::filesystem::path& out_dir,
                        std::vector<std::pair<std::string, std::string>>& files) {
   const sim::Patient& patient = *s.patient;
   const TriangleMesh& skin = s.scene.objects[static_cast<std::size_t>(patient.object)].mesh;
-  if (patient.write_ct) {
+  const std::filesystem::path real_ct = CtPathOfHeadSource(patient.head_source);
+  if (patient.write_ct && !real_ct.empty()) {  // the real CT is the pre-operative image
+    CtVolume volume = ReadVolume(real_ct);
+    WriteVolume(out_dir / kCtName, volume, {.sample_type = VolumeSampleType::kInt16});
+    files.emplace_back("ct", kCtName);
+  } else if (patient.write_ct) {
     sim::SyntheticCt ct = sim::SynthesizeHeadCt(skin, patient.anatomy, patient.ct,
                                                 sim::StreamSeed(s.seed, sim::SeedStream::kCtNoise));
     CtVolume volume;
@@ -50,6 +58,30 @@ void WritePatientFiles(const sim::Scenario& s, const std::filesystem::path& out_
   files.emplace_back("skin", kSkinName);
   WriteTrajectoryMarkups(out_dir / kPlanName, patient.plan);
   files.emplace_back("plan", kPlanName);
+}
+
+// tools/<tool>.json of every scene tool a tracker can use (>= 3 valid markers; a tool failing
+// ToolGeometry::Check, e.g. two stickers, is skipped). Type and diameter of the first marker.
+void WriteToolFiles(const sim::Scenario& s, const std::filesystem::path& out_dir,
+                    std::vector<std::pair<std::string, std::string>>& files) {
+  for (const sim::Tool& t : s.scene.tools) {
+    if (t.markers.empty()) continue;
+    ToolGeometry tool;
+    tool.name = t.name;
+    tool.marker_type = t.markers.front().shape == sim::MarkerShape::kDisc ? MarkerType::kDisc
+                                                                          : MarkerType::kSphere;
+    tool.marker_diameter_mm = t.markers.front().diameter_mm;
+    for (const sim::Marker& m : t.markers) tool.markers_in_tool.push_back(m.centre_in_tool);
+    try {
+      tool.Check();
+    } catch (const std::exception&) {
+      continue;
+    }
+    const std::string name = std::string(kToolsDir) + "/" + t.name + ".json";
+    std::filesystem::create_directories(out_dir / kToolsDir);
+    WriteToolJson(out_dir / name, tool);
+    files.emplace_back("tool:" + t.name, name);
+  }
 }
 
 }  // namespace
@@ -75,6 +107,7 @@ SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path
   info.files = {{"recording", kRecordingName}, {"calibration", kCalibrationName}};
   if (options.truth_depth) info.files.emplace_back("truth_range", kTruthRangeName);
   if (scenario.patient) WritePatientFiles(scenario, out_dir, info.files);
+  WriteToolFiles(scenario, out_dir, info.files);
 
   Hl2ssWriterOptions writer_options;
   writer_options.profile_z = options.profile;

@@ -137,21 +137,19 @@ NamedTransform DecodeTransformText(std::span<const std::uint8_t> bytes,
   std::uint64_t first_offset = 0;
   while (const auto token = scanner.NextToken()) {
     if (token->starts_with("#")) {
-      // "# tofnav transform <target>_from_<source> ..." names the frames. (value_or: GCC 12
-      // reports optionals of string_view as maybe-uninitialized in Release.)
-      const std::string_view tofnav = scanner.TokenOnLine().value_or(std::string_view());
-      const std::string_view kind =
-          tofnav.empty() ? std::string_view() : scanner.TokenOnLine().value_or(std::string_view());
-      const std::string_view name =
-          kind.empty() ? std::string_view() : scanner.TokenOnLine().value_or(std::string_view());
+      // "# tofnav transform <target>_from_<source> ..." names the frames.
+      // Strings, not optional<string_view>: GCC 12 -O3 warns (maybe-uninitialized) on those.
+      const std::string tofnav(scanner.TokenOnLine().value_or(""));
+      const std::string kind(tofnav.empty() ? "" : scanner.TokenOnLine().value_or(""));
+      const std::string name(kind.empty() ? "" : scanner.TokenOnLine().value_or(""));
       if (*token == "#" && tofnav == "tofnav" && kind == "transform" && !name.empty()) {
         const std::size_t split = name.find("_from_");
-        if (split == std::string_view::npos || !IsFrameName(name.substr(0, split)) ||
+        if (split == std::string::npos || !IsFrameName(name.substr(0, split)) ||
             !IsFrameName(name.substr(split + 6))) {
           scanner.FailExpected("<target>_from_<source> frame names");
         }
-        transform.target_frame = std::string(name.substr(0, split));
-        transform.source_frame = std::string(name.substr(split + 6));
+        transform.target_frame = name.substr(0, split);
+        transform.source_frame = name.substr(split + 6);
       }
       scanner.SkipLine();
       continue;

@@ -57,7 +57,7 @@ Motion FixedCamera(const Eigen::Vector3d& eye, const Eigen::Vector3d& target) {
   return StaticMotion(LookAt(eye, target));
 }
 
-Scenario MarkerStage() {
+Scenario MarkerStage(const PatientHead* /*no patient*/) {
   Scenario s;
   s.name = "marker-stage";
   s.description =
@@ -86,7 +86,7 @@ Scenario MarkerStage() {
   return s;
 }
 
-Scenario Materials() {
+Scenario Materials(const PatientHead* /*no patient*/) {
   Scenario s;
   s.name = "materials";
   s.description =
@@ -123,17 +123,28 @@ Scenario Materials() {
   return s;
 }
 
-// An upright head on a static mount whose frame is the image frame, and a table under it.
+// An upright head on a static mount, and a table under it. The mount's frame is the image frame
+// moved to the head's anatomy centre (identity for the phantom).
 int AddUprightPatient(Scenario& s, const PatientHead& head, int skin_material,
                       const std::string& mount_name, const Eigen::Vector3d& centre_in_world) {
   const int table_material = s.scene.AddMaterial(Named(DiffuseMaterial(0.45), "acrylic"));
   const int mount = s.AddMount(mount_name, StaticMotion(WorldFromUprightImage(centre_in_world)));
-  AddPatient(s, head, skin_material, mount, Rigid3d::Identity());
+  AddPatient(s, head, skin_material, mount, Translation(-head.anatomy.centre_in_image));
   const double neck_mm = -HeadPhantomOptions{}.neck_cut_fraction * head.anatomy.semi_axes_mm.z();
   s.AddObject(mount_name + "_board", PlaneMesh(600.0, 450.0), table_material, mount,
               Translation({0.0, 0.0, neck_mm - 0.5}));
   return mount;
 }
+
+// Stickers on the patient's skin: their tool frame is the image frame.
+void AddStickers(Scenario& s, Tool stickers, int mount) {
+  s.AddTool(std::move(stickers), mount);
+  s.scene.tools.back().scene_from_tool =
+      s.scene.objects[static_cast<std::size_t>(s.patient->object)].scene_from_object;
+}
+
+// The built-in phantom unless the caller gave a head.
+PatientHead HeadOrPhantom(const PatientHead* head) { return head ? *head : PhantomHead(); }
 
 // The headset worn by someone looking at `target` from the +z side.
 Motion Wearer(const Eigen::Vector3d& target, double period_s) {
@@ -144,7 +155,7 @@ Motion Wearer(const Eigen::Vector3d& target, double period_s) {
   return motion;
 }
 
-Scenario HeadIdentification() {
+Scenario HeadIdentification(const PatientHead* given_head) {
   Scenario s;
   s.name = "head-identification";
   s.description =
@@ -153,13 +164,14 @@ Scenario HeadIdentification() {
   const int retro = s.scene.AddMaterial(RetroReflectiveMaterial(RetroCurve::kLinear));
   const int skin = s.scene.AddMaterial(PhotopolymerMaterial());
   const Eigen::Vector3d centre(0.0, 200.0, 0.0);
-  const PatientHead head = PhantomHead();
+  const PatientHead head = HeadOrPhantom(given_head);
   const int mount = AddUprightPatient(s, head, skin, "table", centre);
-  s.AddTool(SkinStickers("forehead_markers", head,
-                         {HeadDirection(-0.30, 0.45), HeadDirection(0.28, 0.47),
-                          HeadDirection(-0.10, 0.72), HeadDirection(0.16, 0.62)},
-                         10.0, retro),
-            mount);
+  AddStickers(s,
+              SkinStickers("forehead_markers", head,
+                           {HeadDirection(-0.30, 0.45), HeadDirection(0.28, 0.47),
+                            HeadDirection(-0.10, 0.72), HeadDirection(0.16, 0.62)},
+                           10.0, retro),
+              mount);
   s.camera.motion = Wearer(WorldFromUprightImage(centre) * Eigen::Vector3d(0.0, -60.0, 40.0), 6.0);
   s.camera.motion.head_worn.azimuth_span_rad = 1.6;
   s.timing.drop_probability = 0.01;
@@ -167,7 +179,7 @@ Scenario HeadIdentification() {
   return s;
 }
 
-Scenario DepthAccuracy() {
+Scenario DepthAccuracy(const PatientHead* /*no patient*/) {
   Scenario s;
   s.name = "depth-accuracy";
   s.description =
@@ -198,7 +210,7 @@ Scenario DepthAccuracy() {
   return s;
 }
 
-Scenario Reconstruction() {
+Scenario Reconstruction(const PatientHead* given_head) {
   Scenario s;
   s.name = "reconstruction";
   s.description =
@@ -215,10 +227,11 @@ Scenario Reconstruction() {
   const int platform = s.AddMount("turntable", turning);
   s.AddObject("platform", BoxMesh({320.0, 20.0, 320.0}), acrylic, platform,
               Translation({0.0, -10.0, 0.0}));
-  const PatientHead head = PhantomHead();
+  const PatientHead head = HeadOrPhantom(given_head);
   const double neck_mm = HeadPhantomOptions{}.neck_cut_fraction * head.anatomy.semi_axes_mm.z();
   const Eigen::Vector3d head_centre(0.0, neck_mm + 0.5, 0.0);
-  AddPatient(s, head, nylon, platform, WorldFromUprightImage(head_centre));
+  AddPatient(s, head, nylon, platform,
+             WorldFromUprightImage(head_centre) * Translation(-head.anatomy.centre_in_image));
   const Eigen::Vector3d eye(0.0, head_centre.y() + 200.0, 350.0);
   const Eigen::Vector3d tool_centre(125.0, 40.0, 45.0);
   AddToolWithPlate(s, "planar-six", "planar_tool", platform,
@@ -228,7 +241,7 @@ Scenario Reconstruction() {
   return s;
 }
 
-Scenario EvdUseCase() {
+Scenario EvdUseCase(const PatientHead* given_head) {
   Scenario s;
   s.name = "evd-usecase";
   s.description =
@@ -238,7 +251,7 @@ Scenario EvdUseCase() {
   const int nylon = s.scene.AddMaterial(NylonMaterial());
   const int acrylic = s.scene.AddMaterial(Named(DiffuseMaterial(0.45), "acrylic_plate"));
   const Eigen::Vector3d centre(0.0, 200.0, 0.0);
-  const PatientHead head = PhantomHead();
+  const PatientHead head = HeadOrPhantom(given_head);
   const int headframe = AddUprightPatient(s, head, nylon, "headframe", centre);
   for (const double side : {1.0, -1.0}) {  // LPS +x is the patient's left
     const Eigen::Vector3d at(side * 118.0, -15.0, -10.0);
@@ -248,11 +261,12 @@ Scenario EvdUseCase() {
                      Rigid3d(LookAt(at, at + normal, Eigen::Vector3d::UnitZ()).rotation, at), retro,
                      acrylic);
   }
-  s.AddTool(SkinStickers(
-                "forehead_markers", head,
-                {HeadDirection(-0.25, 0.50), HeadDirection(0.22, 0.42), HeadDirection(0.04, 0.74)},
-                10.0, retro),
-            headframe);
+  AddStickers(s,
+              SkinStickers("forehead_markers", head,
+                           {HeadDirection(-0.25, 0.50), HeadDirection(0.22, 0.42),
+                            HeadDirection(0.04, 0.74)},
+                           10.0, retro),
+              headframe);
   s.camera.motion = Wearer(WorldFromUprightImage(centre) * Eigen::Vector3d(0.0, -40.0, 50.0), 8.0);
   s.camera.motion.head_worn.azimuth_span_rad = 1.8;
   s.camera.motion.head_worn.max_elevation_rad = 0.9;
@@ -263,16 +277,17 @@ Scenario EvdUseCase() {
 
 struct Builtin {
   const char* name;
-  Scenario (*make)();
+  Scenario (*make)(const PatientHead* head);
+  bool has_patient;
 };
 
 constexpr Builtin kBuiltins[] = {
-    {"marker-stage", MarkerStage},
-    {"materials", Materials},
-    {"head-identification", HeadIdentification},
-    {"depth-accuracy", DepthAccuracy},
-    {"reconstruction", Reconstruction},
-    {"evd-usecase", EvdUseCase},
+    {"marker-stage", MarkerStage, false},
+    {"materials", Materials, false},
+    {"head-identification", HeadIdentification, true},
+    {"depth-accuracy", DepthAccuracy, false},
+    {"reconstruction", Reconstruction, true},
+    {"evd-usecase", EvdUseCase, true},
 };
 
 }  // namespace
@@ -287,9 +302,12 @@ std::string BuiltinScenarioSummary(const std::string& name) {
   return BuiltinScenario(name).description;
 }
 
-Scenario BuiltinScenario(const std::string& name) {
+Scenario BuiltinScenario(const std::string& name, const PatientHead* head) {
   for (const Builtin& b : kBuiltins) {
-    if (name == b.name) return b.make();
+    if (name != b.name) continue;
+    Require(head == nullptr || b.has_patient,
+            "scenario '" + name + "' has no patient: a head cannot be given");
+    return b.make(head);
   }
   std::string known;
   for (const std::string& n : BuiltinScenarioNames()) known += (known.empty() ? "" : ", ") + n;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "tofnav/sim/patient.hpp"
 #include "tofnav/sim/scenario.hpp"
 
 namespace tofnav::sim {
@@ -17,6 +18,9 @@ std::vector<std::string> BuiltinScenarioNames();
 std::string BuiltinScenarioSummary(const std::string& name);
 
 /// The built-in scenario `name`; PreconditionError for an unknown name (the message lists them).
-Scenario BuiltinScenario(const std::string& name);
+/// `head` replaces the built-in phantom in the scenarios with a patient (head-identification,
+/// reconstruction, evd-usecase; PreconditionError for the others): its anatomy centre takes the
+/// phantom's place.
+Scenario BuiltinScenario(const std::string& name, const PatientHead* head = nullptr);
 
 }  // namespace tofnav::sim

@@ -1,0 +1,161 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav fit-marker-error: f_rf (paper Eq. 1) from linear-stage recordings (Sec. III-A.1).
+#include <CLI/CLI.hpp>
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "commands.hpp"
+#include "marker_frames.hpp"
+#include "progress.hpp"
+#include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/io/marker_range_json.hpp"
+#include "tofnav/markers/marker_centre.hpp"
+#include "tofnav/tracking/linear_stage.hpp"
+
+namespace tofnav {
+namespace {
+
+using OrderedJson = nlohmann::ordered_json;
+
+// Splits a recording into stage runs where the structure jumps (a new run starts elsewhere).
+std::vector<std::vector<StageFrame>> SplitRuns(std::vector<StageFrame> frames,
+                                               const ToolGeometry& structure, double jump_mm) {
+  std::vector<std::vector<StageFrame>> runs(1);
+  std::optional<Eigen::Vector3d> last;
+  for (StageFrame& f : frames) {
+    const Points3d centres = MarkerCentres(f.markers, structure.SurfaceToCentreMm());
+    const ToolPoseResult pose = EstimateToolPose(centres, structure);
+    if (pose.ahat_from_tool) {
+      if (last && (pose.ahat_from_tool->translation - *last).norm() > jump_mm &&
+          !runs.back().empty()) {
+        runs.emplace_back();
+      }
+      last = pose.ahat_from_tool->translation;
+    }
+    runs.back().push_back(std::move(f));
+  }
+  return runs;
+}
+
+}  // namespace
+
+int RunFitMarkerError(int argc, char** argv) {
+  CLI::App app{
+      "Fit f_rf, the retro-reflector range error (Eq. 1), from recordings of a marker "
+      "structure on a linear stage: reference from the structure's pose, a line over "
+      "time, a csaps smoothing spline (docs/tracking.md)",
+      "tofnav fit-marker-error"};
+  std::vector<std::filesystem::path> recordings;
+  MarkerSourceArgs source_args;
+  std::filesystem::path tool_path, out_path;
+  std::optional<double> speed_mm_s;
+  std::string smoothing = "gcv";
+  double jump_mm = 20.0, speed_tolerance = 0.1;
+  bool quiet = false, json = false;
+  StageRangeErrorOptions stage_options;
+  app.add_option("recordings", recordings, "stage recording(s) (hl2ss .bin or StreamRecorder)")
+      ->required();
+  source_args.AddTo(app, false);
+  app.add_option("--tool", tool_path, "the multi-marker structure (tool JSON or .rom)")->required();
+  app.add_option("--out", out_path, "f_rf curve JSON to write")->required();
+  app.add_option("--speed-mm-s", speed_mm_s,
+                 "nominal stage speed [mm/s]: runs whose fitted speed differs by > 10 % drop");
+  app.add_option("--smoothing", smoothing, "csaps p in [0, 1], or 'gcv' (default)");
+  app.add_option("--split-jump-mm", jump_mm,
+                 "a structure jump larger than this between frames starts a new run [mm] (20)");
+  app.add_option("--min-frames", stage_options.min_frames, "posed frames a run needs (10)");
+  app.add_flag("-q,--quiet", quiet, "no progress bar");
+  app.add_flag("--json", json, "print the summary as one JSON object");
+  CLI11_PARSE(app, argc, argv);
+
+  SmoothingSplineOptions spline_options;
+  if (smoothing != "gcv") {
+    try {
+      spline_options.smoothing_p = std::stod(smoothing);
+    } catch (const std::exception&) {
+      throw std::runtime_error("--smoothing must be a number in [0, 1] or 'gcv', not '" +
+                               smoothing + "'");
+    }
+    spline_options.Check();
+  }
+  const ToolGeometry structure = ReadToolFile(tool_path);
+  std::vector<MarkerRangeSample> samples;
+  OrderedJson runs_json = OrderedJson::array();
+  int frames_used = 0;
+  for (const std::filesystem::path& recording : recordings) {
+    source_args.recording = recording;
+    const MarkerSource source = OpenMarkerSource(source_args);
+    std::vector<StageFrame> frames;
+    ProgressBar progress("fit-marker-error " + recording.filename().string(), quiet || json);
+    ForEachFrameMarkers(
+        source, source_args.detection,
+        [&](std::size_t, const AhatFrame& frame, std::vector<DetectedMarker>& markers) {
+          frames.push_back({frame.timestamp_s(), std::move(markers)});
+        },
+        [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+    std::vector<std::vector<StageFrame>> runs = SplitRuns(std::move(frames), structure, jump_mm);
+    for (std::size_t r = 0; r < runs.size(); ++r) {
+      OrderedJson run{{"recording", recording.string()}, {"run", r}, {"frames", runs[r].size()}};
+      try {
+        const StageRangeErrorResult stage =
+            MeasureMarkerRangeErrors(runs[r], structure, stage_options);
+        const double speed = stage.line_velocity_mm_per_s.norm();
+        run["frames_used"] = stage.frames_used;
+        run["speed_mm_s"] = speed;
+        run["line_rms_mm"] = stage.line_rms_mm;
+        run["samples"] = stage.samples.size();
+        if (speed_mm_s && std::abs(speed - *speed_mm_s) > speed_tolerance * *speed_mm_s) {
+          run["dropped"] = "fitted speed differs from --speed-mm-s by more than 10 %";
+        } else {
+          samples.insert(samples.end(), stage.samples.begin(), stage.samples.end());
+          frames_used += stage.frames_used;
+        }
+      } catch (const std::invalid_argument& e) {
+        run["dropped"] = e.what();
+      }
+      runs_json.push_back(run);
+    }
+  }
+  if (samples.empty()) throw std::runtime_error("no run gave range-error samples");
+  const MarkerRangeFitResult fit = FitMarkerRangeModel(samples, spline_options);
+  MarkerRangeFile file{fit.model,
+                       {static_cast<int>(samples.size()), frames_used, fit.rms_residual_mm,
+                        fit.fit.effective_dof, spline_options.smoothing_p ? "given" : "gcv"}};
+  WriteMarkerRangeJson(out_path, file);
+
+  OrderedJson curve = OrderedJson::array();
+  for (double d = 300.0; d <= 700.0; d += 50.0) curve.push_back({d, fit.model.BiasMm(d)});
+  OrderedJson summary{{"out", out_path.string()},
+                      {"samples", samples.size()},
+                      {"frames_used", frames_used},
+                      {"smoothing_p", fit.fit.smoothing_p},
+                      {"effective_dof", fit.fit.effective_dof},
+                      {"rms_residual_mm", fit.rms_residual_mm},
+                      {"f_rf_mm", curve},
+                      {"runs", runs_json}};
+  if (json) {
+    std::cout << summary.dump(2) << "\n";
+    return EXIT_SUCCESS;
+  }
+  std::cout << "f_rf from " << samples.size() << " samples of " << frames_used << " frames: p "
+            << fit.fit.smoothing_p << ", " << fit.fit.effective_dof
+            << " degrees of freedom, residual RMS " << fit.rms_residual_mm << " mm -> "
+            << out_path.string() << "\n  f_rf [mm]:";
+  for (const auto& c : curve) std::cout << " " << c[0].get<double>() << ": " << c[1].get<double>();
+  std::cout << "\n";
+  for (const auto& run : runs_json) {
+    std::cout << "  " << run["recording"].get<std::string>() << " run " << run["run"] << ": "
+              << run["frames"] << " frames";
+    if (run.contains("speed_mm_s")) {
+      std::cout << ", " << run["frames_used"] << " used, speed " << run["speed_mm_s"]
+                << " mm/s, line RMS " << run["line_rms_mm"] << " mm";
+    }
+    if (run.contains("dropped")) std::cout << ", dropped: " << run["dropped"].get<std::string>();
+    std::cout << "\n";
+  }
+  return EXIT_SUCCESS;
+}
+
+}  // namespace tofnav
