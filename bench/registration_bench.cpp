@@ -142,27 +142,6 @@ struct RegistrationScene {
   std::vector<Rigid3d> tool_from_image;
 };
 
-/// Moves every point along its normal by a smooth error field of RMS `rms_mm`: three plane waves
-/// of 50 mm wavelength in random directions (a fused surface's errors are correlated like this).
-void AddSmoothError(PointCloud& cloud, double rms_mm, std::mt19937_64& rng) {
-  std::normal_distribution<double> gauss(0.0, 1.0);
-  std::uniform_real_distribution<double> phase(0.0, 2.0 * std::numbers::pi);
-  constexpr double kWavelengthMm = 50.0;
-  Eigen::Vector3d waves[3];
-  double phases[3];
-  for (int k = 0; k < 3; ++k) {
-    waves[k] = 2.0 * std::numbers::pi / kWavelengthMm *
-               Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)).normalized();
-    phases[k] = phase(rng);
-  }
-  const double amplitude = rms_mm / std::sqrt(1.5);  // 3 unit sines have RMS sqrt(3 / 2)
-  for (std::size_t i = 0; i < cloud.points.size(); ++i) {
-    double offset = 0.0;
-    for (int k = 0; k < 3; ++k) offset += std::sin(waves[k].dot(cloud.points[i]) + phases[k]);
-    cloud.points[i] += amplitude * offset * cloud.normals[i];
-  }
-}
-
 /// 100 k-vertex skin; 60 k-point frontal reconstructions with 0.3 mm error (white, or a smooth
 /// field) or none, each seen from a random tool frame within +-30 deg and +-50 mm (the
 /// acceptance range).
@@ -173,7 +152,7 @@ RegistrationScene MakeRegistrationScene(int seeds, double noise_mm, bool smooth)
     std::mt19937_64 rng(static_cast<std::uint64_t>(seed) + 1000);
     s.tool_from_image.push_back(test::RandomRigid(rng, 30.0 * std::numbers::pi / 180.0, 50.0));
     PointCloud samples = test::FrontalSamples(s.skin, kSourcePoints, smooth ? 0.0 : noise_mm, rng);
-    if (smooth) AddSmoothError(samples, noise_mm, rng);
+    if (smooth) test::AddSmoothError(samples, noise_mm, rng);
     s.reconstructions.push_back(Transform(s.tool_from_image.back(), samples));
   }
   return s;

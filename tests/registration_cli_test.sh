@@ -33,4 +33,17 @@ set -e
 [ $rc -eq 2 ] || { echo "FAIL: a vertex cap registered (exit $rc)"; exit 1; }
 grep -q 'refused' "$scratch/err"
 [ ! -e "$scratch/cap.json" ] || { echo "FAIL: a refused registration was written"; exit 1; }
+# Paired points: four fiducials moved 10 mm along x (0.1 mm noise on one); a mismatch is refused.
+printf '# CoordinateSystem = LPS\na,0,0,0\nb,100,0,0\nc,0,100,0\nd,0,0,100\n' >"$scratch/image.fcsv"
+printf '# CoordinateSystem = LPS\na,10,0,0.1\nb,110,0,0\nc,10,100,0\nd,10,0,100\n' >"$scratch/tool.fcsv"
+printf '# CoordinateSystem = LPS\na,0,0,0\nb,100,0,0\nc,0,90,0\nd,0,0,120\n' >"$scratch/bad.fcsv"
+"$tofnav" register --fiducials "$scratch/tool.fcsv" "$scratch/image.fcsv" \
+  --out "$scratch/fid.txt" -q
+grep -q ' 9\.99[0-9]*$' "$scratch/fid.txt" || { echo "FAIL: paired points"; exit 1; }
+set +e
+"$tofnav" register --fiducials "$scratch/bad.fcsv" "$scratch/image.fcsv" --out "$scratch/b.json" \
+  -q 2>/dev/null
+rc=$?
+set -e
+[ $rc -eq 2 ] || { echo "FAIL: mismatched fiducials registered (exit $rc)"; exit 1; }
 echo "registration CLI end to end passed"

@@ -87,6 +87,27 @@ inline PointCloud FrontalSamples(const TriangleMesh& skin, std::size_t count, do
   return SurfaceSamples(skin, count, noise_mm, rng, IsFrontal);
 }
 
+/// Moves every point along its normal by a smooth error field of RMS `rms_mm`: three plane waves
+/// of 50 mm wavelength in random directions (a fused surface's errors are correlated like this).
+inline void AddSmoothError(PointCloud& cloud, double rms_mm, std::mt19937_64& rng) {
+  std::normal_distribution<double> gauss(0.0, 1.0);
+  std::uniform_real_distribution<double> phase(0.0, 2.0 * std::numbers::pi);
+  constexpr double kWavelengthMm = 50.0;
+  Eigen::Vector3d waves[3];
+  double phases[3];
+  for (int k = 0; k < 3; ++k) {
+    waves[k] = 2.0 * std::numbers::pi / kWavelengthMm *
+               Eigen::Vector3d(gauss(rng), gauss(rng), gauss(rng)).normalized();
+    phases[k] = phase(rng);
+  }
+  const double amplitude = rms_mm / std::sqrt(1.5);  // 3 unit sines have RMS sqrt(3 / 2)
+  for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+    double offset = 0.0;
+    for (int k = 0; k < 3; ++k) offset += std::sin(waves[k].dot(cloud.points[i]) + phases[k]);
+    cloud.points[i] += amplitude * offset * cloud.normals[i];
+  }
+}
+
 /// The frontal vertices of the skin themselves (noise-free, exactly on the target's samples).
 inline PointCloud FrontalVertices(const TriangleMesh& skin) {
   PointCloud cloud;

@@ -156,7 +156,9 @@ int RunRegister(int argc, char** argv) {
     guess = report.tool_from_image;
   }
   if (surfaces) {
+    const double fre_mm = report.figures.value("fre_rms_mm", -1.0);
     report = RegisterSurfaces(reconstruction_path, skin_path, skin_ras, plan, options, guess);
+    if (fre_mm >= 0.0) report.figures["start_fiducial_fre_rms_mm"] = fre_mm;
   }
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

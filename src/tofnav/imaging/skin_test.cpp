@@ -60,6 +60,12 @@ CtVolume SyntheticHead(const std::string& modality = "CT") {
   return volume;
 }
 
+/// ExtractSkin of the CT with the default options (computed once).
+const SkinResult& DefaultSkin() {
+  static const SkinResult skin = ExtractSkin(SyntheticHead());
+  return skin;
+}
+
 /// Over the vertices above `above_z_mm` (all by default).
 double MaxRadiusError(const TriangleMesh& mesh, double radius_mm, double above_z_mm = -1e9) {
   double worst = 0.0;
@@ -70,7 +76,7 @@ double MaxRadiusError(const TriangleMesh& mesh, double radius_mm, double above_z
 }
 
 TEST(ExtractSkin, OuterSurfaceOnlyWithOutwardNormals) {
-  const SkinResult skin = ExtractSkin(SyntheticHead());
+  const SkinResult& skin = DefaultSkin();
   EXPECT_EQ(skin.threshold, kCtSkinThresholdHu);
   EXPECT_EQ(skin.threshold_source, "CT default");
   EXPECT_EQ(skin.mask_components, 2);  // head and holder
@@ -101,7 +107,7 @@ TEST(ExtractSkin, WithoutFillTheSinusAndAirwayAreMeshed) {
 }
 
 TEST(ExtractSkin, SmoothingKeepsTheRadiusAndDecimationThins) {
-  const SkinResult plain = ExtractSkin(SyntheticHead());
+  const SkinResult& plain = DefaultSkin();
   SkinOptions options;
   options.smoothing_iterations = 10;
   options.decimation_cell_mm = 5.0;

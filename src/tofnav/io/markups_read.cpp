@@ -12,6 +12,7 @@
 
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/json_bytes.hpp"
 
 namespace tofnav {
 namespace {
@@ -138,15 +139,7 @@ class MarkupReader {
 template <typename Visit>
 void ForEachMarkup(std::span<const std::uint8_t> bytes, const std::filesystem::path& source,
                    Visit&& visit) {
-  Json doc;
-  try {
-    doc = Json::parse(bytes.begin(), bytes.end());
-  } catch (const Json::parse_error& e) {
-    const std::uint64_t offset = std::min<std::uint64_t>(e.byte > 0 ? e.byte - 1 : 0, bytes.size());
-    throw IoError(source, offset, std::string("malformed JSON: ") + e.what());
-  } catch (const Json::exception& e) {
-    throw IoError(source, std::nullopt, std::string("malformed JSON: ") + e.what());
-  }
+  const Json doc = ParseJsonBytes<Json>(bytes, source);
   if (!doc.is_object()) throw IoError(source, 0, "expected a JSON object with \"markups\"");
   const auto markups = doc.find("markups");
   if (markups == doc.end() || !markups->is_array()) {

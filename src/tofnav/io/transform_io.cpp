@@ -12,6 +12,7 @@
 #include "tofnav/core/require.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/json_bytes.hpp"
 #include "tofnav/io/transform_matrix.hpp"
 
 namespace tofnav {
@@ -70,15 +71,7 @@ Eigen::Matrix4d MatrixFromJson(const Json& rows, std::span<const std::uint8_t> b
 
 NamedTransform DecodeTransformJson(std::span<const std::uint8_t> bytes,
                                    const std::filesystem::path& source) {
-  Json doc;
-  try {
-    doc = Json::parse(bytes.begin(), bytes.end());
-  } catch (const Json::parse_error& e) {
-    const std::uint64_t offset = std::min<std::uint64_t>(e.byte > 0 ? e.byte - 1 : 0, bytes.size());
-    throw IoError(source, offset, std::string("malformed JSON: ") + e.what());
-  } catch (const Json::exception& e) {  // e.g. a number beyond the double range
-    throw IoError(source, std::nullopt, std::string("malformed JSON: ") + e.what());
-  }
+  const Json doc = ParseJsonBytes<Json>(bytes, source);
   if (!doc.is_object()) throw IoError(source, 0, "expected a JSON object");
   for (const auto& [key, value] : doc.items()) {
     if (key != "target_frame" && key != "source_frame" && key != "units" &&
