@@ -5,7 +5,10 @@
 namespace tofnav {
 
 int RunConvert(int argc, char** argv);
+int RunEvaluate(int argc, char** argv);
+int RunEvaluateReconstruction(int argc, char** argv);
 int RunInfo(int argc, char** argv);
+int RunReconstruct(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 
 }  // namespace tofnav

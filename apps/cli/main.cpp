@@ -20,6 +20,9 @@ constexpr Command kCommands[] = {
     {"convert", "re-write a recording as hl2ss RAW/ZDEPTH or StreamRecorder", tofnav::RunConvert},
     {"simulate", "render a scenario into an hl2ss recording plus ground truth",
      tofnav::RunSimulate},
+    {"reconstruct", "fuse a recording into the head surface in the reference tool's frame",
+     tofnav::RunReconstruct},
+    {"evaluate", "compare results with a simulation's ground truth", tofnav::RunEvaluate},
 };
 
 void PrintUsage() {
