@@ -13,6 +13,8 @@
 #include "commands.hpp"
 #include "progress.hpp"
 #include "tofnav/core/require.hpp"
+#include "tofnav/correction/correct_range.hpp"
+#include "tofnav/io/depth_model_json.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/mesh_io.hpp"
 #include "tofnav/io/tool_json.hpp"
@@ -36,7 +38,8 @@ int RunReconstruct(int argc, char** argv) {
       "Fuse a recording's AHAT frames, posed by the tracked reference tool, into a TSDF in the "
       "tool frame and extract the surface as PLY (docs/reconstruction.md)",
       "tofnav reconstruct"};
-  std::filesystem::path recording_path, calibration_dir, tool_path, out_path;
+  std::filesystem::path recording_path, calibration_dir, tool_path, out_path, depth_model_path,
+      marker_error_path;
   std::optional<double> sample_offset;
   std::vector<double> roi;
   bool quiet = false, json = false, all_components = false;
@@ -51,6 +54,11 @@ int RunReconstruct(int argc, char** argv) {
   app.add_option("--tool", tool_path, "reference tool JSON (the fusion frame)")->required();
   app.add_option("--out", out_path, "output surface (.ply, .stl or .obj), in the tool frame")
       ->required();
+  app.add_option("--depth-model", depth_model_path,
+                 "depth_model.json: correct surface ranges by Eq. (4) before fusion (its f_rf, if "
+                 "any, also corrects the tool's marker ranges unless --marker-error is given)");
+  app.add_option("--marker-error", marker_error_path,
+                 "f_rf JSON: correct the tool's marker ranges by Eq. (2) for tracking");
   app.add_option("--roi", roi,
                  "region of interest in the tool frame: xmin,ymin,zmin,xmax,ymax,zmax")
       ->delimiter(',')
@@ -91,6 +99,19 @@ int RunReconstruct(int argc, char** argv) {
     Require(calibration.has_value(), "the recording has no calibration: give --calibration DIR");
   }
   const AhatCamera camera(*calibration);
+  if (!depth_model_path.empty()) {
+    const DepthModelFile file = ReadDepthModelJson(depth_model_path);
+    if (file.marker_range) options.marker_error = *file.marker_range;
+    CorrectRangeOptions correct;
+    correct.segmentation.min_range_mm = options.tsdf.min_range_mm;
+    correct.segmentation.max_range_mm = options.tsdf.max_range_mm;
+    correct.segmentation.transition_dilation_px = options.marker_mask_dilation_px;
+    options.correct_range = [model = file.model, correct](const AhatFrame& frame,
+                                                          const AhatCamera& cam) {
+      return CorrectRangeImage(frame, cam, model, correct);
+    };
+  }
+  if (!marker_error_path.empty()) options.marker_error = ReadMarkerRangeJson(marker_error_path);
   const ToolGeometry tool = ReadToolJson(tool_path);
   ProgressBar progress("reconstruct", quiet || json);
   const ReconstructResult r = ReconstructSurface(
@@ -106,6 +127,8 @@ int RunReconstruct(int argc, char** argv) {
     const nlohmann::ordered_json summary{
         {"out", out_path.string()},
         {"tool", tool.name},
+        {"depth_model", depth_model_path.string()},
+        {"marker_error", !options.marker_error.empty()},
         {"frames", r.frames_considered},
         {"frames_fused", r.frames_fused},
         {"frames_skipped", r.frames_skipped},

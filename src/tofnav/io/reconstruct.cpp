@@ -22,21 +22,25 @@ double Seconds(Clock::time_point since) {
   return std::chrono::duration<double>(Clock::now() - since).count();
 }
 
-// Range codes as float mm (0 = invalid), with retro-reflective pixels and a ring around them
-// removed: AB >= threshold, dilated by a square of `dilation_px`.
-Image<float> CleanRange(const AhatFrame& frame, double ab_threshold, int dilation_px) {
-  const int w = frame.range_mm.width(), h = frame.range_mm.height();
-  Image<float> range(w, h);
-  for (int v = 0; v < h; ++v) {
-    for (int u = 0; u < w; ++u) {
-      const std::uint16_t code = frame.range_mm(u, v);
-      range(u, v) = code == 0 || code >= kAhatInvalidRange ? 0.0f : static_cast<float>(code);
-    }
+// Range codes as float mm, 0 = invalid.
+Image<float> RangeFromCodes(const Image<std::uint16_t>& codes) {
+  Image<float> range(codes.width(), codes.height());
+  for (std::size_t i = 0; i < codes.size(); ++i) {
+    const std::uint16_t code = codes.data()[i];
+    range.data()[i] = code == 0 || code >= kAhatInvalidRange ? 0.0f : static_cast<float>(code);
   }
-  if (frame.ab.width() != w || frame.ab.height() != h) return range;
+  return range;
+}
+
+// Removes retro-reflective pixels and a ring around them: AB >= threshold, dilated by a square
+// of `dilation_px`.
+void MaskMarkers(const Image<std::uint16_t>& ab, double ab_threshold, int dilation_px,
+                 Image<float>& range) {
+  const int w = range.width(), h = range.height();
+  if (ab.width() != w || ab.height() != h) return;
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
-      if (static_cast<double>(frame.ab(u, v)) < ab_threshold) continue;
+      if (static_cast<double>(ab(u, v)) < ab_threshold) continue;
       for (int y = std::max(0, v - dilation_px); y <= std::min(h - 1, v + dilation_px); ++y) {
         for (int x = std::max(0, u - dilation_px); x <= std::min(w - 1, u + dilation_px); ++x) {
           range(x, y) = 0.0f;
@@ -44,7 +48,6 @@ Image<float> CleanRange(const AhatFrame& frame, double ab_threshold, int dilatio
       }
     }
   }
-  return range;
 }
 
 Image<float> AbWeights(const AhatFrame& frame, double reference, double floor) {
@@ -137,8 +140,11 @@ void Prepare(PreparedFrame& p, const AhatCamera& camera, const ReconstructOption
   p.markers = options.marker_error.empty()
                   ? std::move(detection.markers)
                   : CorrectMarkerRanges(std::move(detection.markers), options.marker_error);
-  p.range_mm = CleanRange(p.frame, detection.ab_threshold, options.marker_mask_dilation_px);
-  if (options.correct_range) options.correct_range(p.frame, camera, p.range_mm);
+  p.range_mm = options.correct_range ? options.correct_range(p.frame, camera)
+                                     : RangeFromCodes(p.frame.range_mm);
+  Require(p.range_mm.width() == camera.width() && p.range_mm.height() == camera.height(),
+          "ReconstructSurface: the corrected range image must have the camera's size");
+  MaskMarkers(p.frame.ab, detection.ab_threshold, options.marker_mask_dilation_px, p.range_mm);
   if (options.ab_weight_reference > 0.0) {
     p.weight = AbWeights(p.frame, options.ab_weight_reference, options.min_ab_weight);
   }

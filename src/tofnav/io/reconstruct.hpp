@@ -22,10 +22,10 @@
 
 namespace tofnav {
 
-/// Whole-frame surface range correction (Eq. 4), applied in place to the float range image
-/// before fusion (0 = invalid stays 0). Empty: no correction.
+/// Whole-frame surface range correction (Eq. 4): the corrected radial range of every pixel [mm],
+/// 0 = invalid or dropped, the camera's size (e.g. correction::CorrectRangeImage). Empty: none.
 using RangeCorrection =
-    std::function<void(const AhatFrame& frame, const AhatCamera& camera, Image<float>& range_mm)>;
+    std::function<Image<float>(const AhatFrame& frame, const AhatCamera& camera)>;
 
 /// The automatic region of interest (docs/reconstruction.md): on the first frame whose tool is
 /// ok, the surface point seen by the central window of the image (median of its valid points in

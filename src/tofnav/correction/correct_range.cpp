@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Depth correction of a whole AHAT frame: Eq. (4) on the head surface, Eq. (2) on markers.
+#include "tofnav/correction/correct_range.hpp"
+
+#include <cmath>
+
+namespace tofnav {
+
+Image<float> SurfaceRange(const Image<float>& range_mm, const FrameSegmentation& segmentation) {
+  Image<float> out = range_mm;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const auto label = static_cast<PixelClass>(segmentation.labels.pixels()[i]);
+    if (label == PixelClass::kMarker || label == PixelClass::kTransition) out.pixels()[i] = 0.0f;
+  }
+  return out;
+}
+
+CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
+                            const DepthErrorModel& model, const CorrectRangeOptions& options) {
+  model.Check();
+  CorrectedFrame out;
+  out.segmentation = SegmentFrame(frame, camera, options.segmentation);
+  const Image<float> measured = RangeAsFloat(frame.range_mm);
+  out.normals =
+      ComputeRangeNormals(SurfaceRange(measured, out.segmentation), camera, options.normals);
+  const int w = measured.width(), h = measured.height();
+  out.range_mm = Image<float>(w, h);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const float d = measured(u, v);
+      if (d <= 0.0f || !camera.IsValid(u, v)) continue;
+      const auto label = static_cast<PixelClass>(out.segmentation.labels(u, v));
+      if (label == PixelClass::kTransition) continue;
+      if (label == PixelClass::kMarker) {
+        out.range_mm(u, v) = static_cast<float>(CorrectMarkerRange(d, options.marker_model));
+        continue;
+      }
+      if (label == PixelClass::kOutside && options.roi_only) continue;
+      double theta = out.normals.incidence_rad(u, v);
+      if (std::isnan(theta)) {
+        if (options.drop_without_normal) continue;
+        theta = 0.0;
+      }
+      const double corrected = model.CorrectRangeMm(d, theta, frame.ab(u, v));
+      if (corrected > 0.0) out.range_mm(u, v) = static_cast<float>(corrected);
+    }
+  }
+  return out;
+}
+
+Image<float> CorrectRangeImage(const AhatFrame& frame, const AhatCamera& camera,
+                               const DepthErrorModel& model, const CorrectRangeOptions& options) {
+  return CorrectFrame(frame, camera, model, options).range_mm;
+}
+
+}  // namespace tofnav

@@ -1,0 +1,48 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Depth correction of a whole AHAT frame: Eq. (4) on the head surface, Eq. (2) on markers.
+#pragma once
+
+#include "tofnav/core/image.hpp"
+#include "tofnav/correction/depth_error_model.hpp"
+#include "tofnav/correction/frame_segmentation.hpp"
+#include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/correction/range_normals.hpp"
+#include "tofnav/sensor/ahat_camera.hpp"
+#include "tofnav/sensor/ahat_frame.hpp"
+
+namespace tofnav {
+
+struct CorrectRangeOptions {
+  MarkerRangeModel marker_model;  // f_rf for marker pixels (empty: markers kept as measured)
+  SegmentationOptions segmentation;
+  RangeNormalOptions normals;
+  /// Keep only head-surface and marker pixels (the ROI); else every other valid pixel is
+  /// corrected with the surface model too. The transitional band is always dropped.
+  bool roi_only = true;
+  /// Surface pixels without a normal (isolated, or at an edge on both axes) are dropped when
+  /// true, else corrected with theta = 0.
+  bool drop_without_normal = true;
+};
+
+struct CorrectedFrame {
+  Image<float> range_mm;  // corrected radial range [mm], 0 = dropped or invalid
+  FrameSegmentation segmentation;
+  RangeNormals normals;  // of the measured range
+};
+
+/// The range with marker and transitional pixels set to 0: normals of the surface alone (a marker
+/// sits a few mm off the skin, inside the depth-edge tolerance).
+Image<float> SurfaceRange(const Image<float>& range_mm, const FrameSegmentation& segmentation);
+
+/// Corrects one frame: segmentation, normals on the measured surface range (SurfaceRange), theta,
+/// then Eq. (4) d' = (d - C1 - C3 g(theta) - C4 h(AB)) / (1 + C2) on surface pixels and Eq. (2) d'
+/// = d - f_rf(d) on marker pixels. Throws std::invalid_argument on bad options or sizes.
+CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
+                            const DepthErrorModel& model, const CorrectRangeOptions& options = {});
+
+/// CorrectFrame's range image only (the reconstruction's entry point).
+Image<float> CorrectRangeImage(const AhatFrame& frame, const AhatCamera& camera,
+                               const DepthErrorModel& model,
+                               const CorrectRangeOptions& options = {});
+
+}  // namespace tofnav

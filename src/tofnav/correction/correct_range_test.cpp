@@ -1,0 +1,107 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Segmentation and whole-frame correction on synthetic planes with a known linear bias.
+#include "tofnav/correction/correct_range.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "correction_test_scenes.hpp"
+
+namespace tofnav {
+namespace {
+
+using testing::CorrectionCamera;
+
+DepthErrorModel KnownModel() {
+  DepthErrorModel model;
+  model.c1_mm = 3.0;
+  model.c2 = 0.01;
+  model.c3_mm = 4.0;
+  return model;
+}
+
+// A plane tilted 0.4 rad at 450 mm with the model's bias, and a bright 9 x 9 px "marker" patch
+// at (300, 260) measured without bias.
+AhatFrame BiasedPlaneFrame(const DepthErrorModel& model, Image<float>& truth) {
+  const testing::TestPlane plane = testing::TiltedPlane(450.0, 0.4);
+  AhatFrame frame = testing::SyntheticFrame(
+      [&](int, int, const Eigen::Vector3d& ray) { return plane.Range(ray); },
+      [&](double d, int u, int v) {
+        const bool marker = std::abs(u - 300) <= 4 && std::abs(v - 260) <= 4;
+        const Eigen::Vector3d ray = CorrectionCamera().PixelRay(u, v).cast<double>();
+        return marker ? d : d + model.BiasMm(d, plane.Incidence(ray));
+      },
+      200, &truth, 180, 340);
+  for (int v = 256; v <= 264; ++v) {
+    for (int u = 296; u <= 304; ++u) frame.ab(u, v) = 5000;
+  }
+  return frame;
+}
+
+TEST(SegmentFrame, MarkerTransitionAndHeadAreas) {
+  Image<float> truth;
+  const AhatFrame frame = BiasedPlaneFrame(KnownModel(), truth);
+  SegmentationOptions options;
+  options.roi_radius_mm = 60.0;
+  const FrameSegmentation seg = SegmentFrame(frame, CorrectionCamera(), options);
+  ASSERT_EQ(seg.markers.size(), 1u);
+  EXPECT_EQ(seg.markers[0].pixels.size(), 81u);
+  EXPECT_EQ(seg.labels(300, 260), static_cast<std::uint8_t>(PixelClass::kMarker));
+  EXPECT_EQ(seg.labels(307, 260), static_cast<std::uint8_t>(PixelClass::kTransition));
+  EXPECT_EQ(seg.labels(308, 260), static_cast<std::uint8_t>(PixelClass::kHead));
+  EXPECT_EQ(seg.labels(190, 260), static_cast<std::uint8_t>(PixelClass::kOutside));  // ROI
+  EXPECT_GT(seg.head_pixels, 1000);
+}
+
+TEST(CorrectRangeImage, UndoesAKnownLinearBias) {
+  // Ranges are rounded to 1 mm before correction (+-0.5 mm), normals come from the rounded range.
+  constexpr double kMeanTolMm = 0.05;  // rounding averages out over many pixels
+  constexpr double kMaxTolMm = 1.0;    // 0.5 rounding + C3 x theta error of rounded-range normals
+  const DepthErrorModel model = KnownModel();
+  Image<float> truth;
+  const AhatFrame frame = BiasedPlaneFrame(model, truth);
+  const CorrectedFrame corrected = CorrectFrame(frame, CorrectionCamera(), model);
+  double sum = 0.0, worst = 0.0;
+  int count = 0;
+  for (int v = 200; v <= 320; ++v) {
+    for (int u = 200; u <= 320; ++u) {
+      const auto label = static_cast<PixelClass>(corrected.segmentation.labels(u, v));
+      if (label == PixelClass::kTransition) {
+        EXPECT_EQ(corrected.range_mm(u, v), 0.0f);
+        continue;
+      }
+      if (corrected.range_mm(u, v) <= 0.0f) continue;
+      const double e = corrected.range_mm(u, v) - truth(u, v);
+      sum += e;
+      worst = std::max(worst, std::abs(e));
+      ++count;
+    }
+  }
+  ASSERT_GT(count, 10000);
+  EXPECT_NEAR(sum / count, 0.0, kMeanTolMm);
+  EXPECT_LT(worst, kMaxTolMm);
+  // The marker is unbiased and f_rf is empty: kept as measured.
+  EXPECT_EQ(corrected.range_mm(300, 260), static_cast<float>(frame.range_mm(300, 260)));
+}
+
+TEST(DepthErrorModel, CorrectInvertsBias) {
+  constexpr double kTolMm = 1e-9;  // exact algebra
+  for (const AngleTerm term :
+       {AngleTerm::kTheta, AngleTerm::kThetaSquared, AngleTerm::kOneMinusCos}) {
+    DepthErrorModel model = KnownModel();
+    model.angle_term = term;
+    model.use_intensity = true;
+    model.c4_mm = 0.7;
+    const double d = 432.0, theta = 0.7, ab = 90.0;
+    EXPECT_NEAR(model.CorrectRangeMm(d + model.BiasMm(d, theta, ab), theta, ab), d, kTolMm);
+    EXPECT_EQ(ParseAngleTerm(AngleTermName(term)), term);
+  }
+  DepthErrorModel bad;
+  bad.c2 = -1.0;
+  EXPECT_THROW(bad.Check(), std::invalid_argument);
+  EXPECT_THROW(ParseAngleTerm("cos"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tofnav

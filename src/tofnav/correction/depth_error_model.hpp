@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The surface depth-error model (Eq. 3) with its variants, and its inverse, Eq. (4).
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace tofnav {
+
+/// How the incidence angle enters the model (beyond the paper: tof_physics.md section 11).
+enum class AngleTerm {
+  kTheta,         // C3 * theta: the paper's Eq. (3)
+  kThetaSquared,  // C3 * theta^2
+  kOneMinusCos,   // C3 * (1 - cos theta)
+};
+
+/// Per-frame residual of an identification (Eq. 7 terms at the solution).
+struct FrameResidual {
+  int frame = 0;           // index in the recording
+  double err_c_mm = -1.0;  // Eq. (5), -1 when not evaluated (no CT or ICP failed)
+  double err_s_mm = -1.0;  // RMS over the frame's markers of Eq. (6), -1 when none
+  int markers = 0;         // markers contributing to Err_S
+};
+
+/// What the identification did and how well it fits (written to depth_model.json).
+struct DepthModelFitReport {
+  std::string method;  // e.g. "levenberg-marquardt"
+  std::string costs;   // "correctness+smoothness" or "smoothness"
+  int frames_used = 0;
+  int evaluations = 0;
+  double initial_cost = 0.0;  // Eq. (7) at the start [mm^2]
+  double final_cost = 0.0;    // Eq. (7) at the solution [mm^2]
+  double seconds = 0.0;
+  /// Standard errors from the Gauss-Newton covariance (same order as the coefficients).
+  std::vector<double> standard_errors;
+  /// Cross-validation of the variants: name -> held-out cost [mm^2] (empty when not run).
+  std::vector<std::pair<std::string, double>> cross_validation;
+  std::vector<FrameResidual> frames;
+};
+
+/// delta_d = C1 + C2 d + C3 g(theta) + C4 ln(AB_ref / AB): measured minus true range [mm] of a
+/// surface pixel at true range d [mm], incidence theta [rad] and active brightness AB [counts]
+/// (Eq. 3 with the angle term g = theta and C4 = 0). The intensity term (C4, off unless
+/// use_intensity) is 0 at AB = ab_reference.
+struct DepthErrorModel {
+  AngleTerm angle_term = AngleTerm::kTheta;
+  bool use_intensity = false;
+  double c1_mm = 0.0;
+  double c2 = 0.0;              // dimensionless (mm per mm)
+  double c3_mm = 0.0;           // mm per unit of g(theta) (mm/rad for kTheta)
+  double c4_mm = 0.0;           // mm per unit of ln(AB_ref / AB)
+  double ab_reference = 130.0;  // counts
+  DepthModelFitReport report;
+
+  /// g(theta) of the chosen angle term.
+  double AngleFeature(double theta_rad) const;
+  /// ln(ab_reference / AB) when use_intensity (AB clamped to >= 1), else 0.
+  double IntensityFeature(double ab) const;
+  /// delta_d at true range d (Eq. 3).
+  double BiasMm(double true_range_mm, double theta_rad, double ab = 0.0) const;
+  /// Eq. (4): true range from a measured one, d = (d_m - C1 - C3 g - C4 h) / (1 + C2).
+  double CorrectRangeMm(double measured_range_mm, double theta_rad, double ab = 0.0) const;
+  /// Model name for reports: "linear-theta", "linear-theta2", "linear-1-cos", plus "+ab".
+  std::string Name() const;
+  /// Throws std::invalid_argument on non-finite coefficients, C2 <= -1 or AB_ref <= 0.
+  void Check() const;
+};
+
+/// The parameters as a vector (C1, C2, C3[, C4]) and back; the size follows use_intensity.
+std::vector<double> ModelParameters(const DepthErrorModel& model);
+void SetModelParameters(DepthErrorModel& model, const std::vector<double>& parameters);
+
+std::string_view AngleTermName(AngleTerm term);  // "theta", "theta2", "1-cos"
+/// Inverse of AngleTermName; throws std::invalid_argument on an unknown name.
+AngleTerm ParseAngleTerm(std::string_view name);
+
+}  // namespace tofnav

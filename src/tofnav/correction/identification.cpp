@@ -1,0 +1,252 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Patient-specific identification of the depth-error model (Eq. 7) and model comparison.
+#include "tofnav/correction/identification.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "tofnav/core/parallel_for.hpp"
+
+namespace tofnav {
+namespace {
+
+// sign(d) sqrt(2 rho(d)) with the Huber rho: squares to the robust cost.
+double Robust(double d, double scale) {
+  const double a = std::abs(d);
+  if (scale <= 0.0 || a <= scale) return d;
+  return std::copysign(std::sqrt(scale * (2.0 * a - scale)), d);
+}
+
+// The frames taking part in Err_C with their ICP start poses (refined once at `start`).
+struct CorrectnessPlan {
+  std::vector<int> frames;
+  std::vector<Rigid3d> guesses;
+  double weight = 1.0;  // sqrt of (frames with Err_S) / (frames with Err_C)
+};
+
+CorrectnessPlan PlanCorrectness(std::span<const IdentificationFrame> frames,
+                                const CorrectnessTarget* target, const DepthErrorModel& start,
+                                const IdentificationOptions& options) {
+  CorrectnessPlan plan;
+  if (!target || !target->skin_in_image) return plan;
+  if (target->image_from_ahat.size() != frames.size()) {
+    throw std::invalid_argument("CorrectnessTarget: one image_from_ahat guess per frame");
+  }
+  std::vector<int> usable;
+  int smooth_frames = 0;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (!frames[i].markers.empty()) ++smooth_frames;
+    if (target->image_from_ahat[i] && !frames[i].marker_points.empty() &&
+        frames[i].head.size() >= 50) {
+      usable.push_back(static_cast<int>(i));
+    }
+  }
+  for (int k : EvenSubsample(static_cast<int>(usable.size()), options.max_correctness_frames)) {
+    plan.frames.push_back(usable[static_cast<std::size_t>(k)]);
+  }
+  plan.guesses.resize(plan.frames.size());
+  CorrectnessOptions coarse = options.correctness;
+  coarse.icp.max_distance_schedule_mm = {15.0, 8.0, 4.0};
+  ParallelFor(0, static_cast<std::int64_t>(plan.frames.size()), [&](std::int64_t i) {
+    const auto f = static_cast<std::size_t>(plan.frames[static_cast<std::size_t>(i)]);
+    plan.guesses[static_cast<std::size_t>(i)] =
+        CorrectnessDistances(frames[f], start, *target->skin_in_image, *target->image_from_ahat[f],
+                             coarse)
+            .image_from_ahat;
+  });
+  if (!plan.frames.empty()) {
+    plan.weight = std::sqrt(std::max(1.0, static_cast<double>(smooth_frames)) /
+                            static_cast<double>(plan.frames.size()));
+  }
+  return plan;
+}
+
+struct Evaluation {
+  std::vector<std::vector<double>> smooth;   // per frame: robust, weighted residuals
+  std::vector<std::vector<double>> correct;  // per correctness frame
+  std::vector<FrameResidual> report;
+};
+
+Evaluation Evaluate(std::span<const IdentificationFrame> frames, const CorrectnessTarget* target,
+                    const CorrectnessPlan& plan, const DepthErrorModel& model,
+                    const IdentificationOptions& options) {
+  Evaluation e;
+  e.smooth.resize(frames.size());
+  e.correct.resize(plan.frames.size());
+  e.report.resize(frames.size());
+  const double h = options.huber_scale_mm;
+  ParallelFor(0, static_cast<std::int64_t>(frames.size()), [&](std::int64_t fi) {
+    const auto f = static_cast<std::size_t>(fi);
+    const IdentificationFrame& frame = frames[f];
+    FrameResidual& rep = e.report[f];
+    rep.frame = frame.index;
+    const double k = static_cast<double>(frame.markers.size());
+    double sum_sq = 0.0;
+    for (const MarkerPatch& patch : frame.markers) {
+      const std::vector<double> d = SmoothnessDistances(patch, model);
+      const double n = static_cast<double>(patch.marker_points.size());
+      for (std::size_t i = 0; i < patch.marker_points.size(); ++i) {
+        // A singular fit keeps the residual count: count it as one scale away.
+        const double di = i < d.size() ? d[i] : h;
+        e.smooth[f].push_back(Robust(di, h) / std::sqrt(n * k));
+      }
+      const double rms = Rms(d);
+      sum_sq += rms * rms;
+      ++rep.markers;
+    }
+    if (rep.markers > 0) rep.err_s_mm = std::sqrt(sum_sq / rep.markers);
+  });
+  ParallelFor(0, static_cast<std::int64_t>(plan.frames.size()), [&](std::int64_t ci) {
+    const auto c = static_cast<std::size_t>(ci);
+    const auto f = static_cast<std::size_t>(plan.frames[c]);
+    const CorrectnessFrame result = CorrectnessDistances(frames[f], model, *target->skin_in_image,
+                                                         plan.guesses[c], options.correctness);
+    const double n = static_cast<double>(result.distances.size());
+    for (double d : result.distances) {
+      e.correct[c].push_back(plan.weight * Robust(d, h) / std::sqrt(n));
+    }
+    e.report[f].err_c_mm = Rms(result.distances);
+  });
+  return e;
+}
+
+Eigen::VectorXd Flatten(const Evaluation& e) {
+  std::size_t n = 0;
+  for (const auto& v : e.smooth) n += v.size();
+  for (const auto& v : e.correct) n += v.size();
+  Eigen::VectorXd r(static_cast<Eigen::Index>(n));
+  Eigen::Index i = 0;
+  for (const auto& v : e.smooth) {
+    for (double x : v) r(i++) = x;
+  }
+  for (const auto& v : e.correct) {
+    for (double x : v) r(i++) = x;
+  }
+  return r;
+}
+
+template <typename T>
+std::vector<T> WithoutBlock(std::span<const T> items, std::size_t lo, std::size_t hi) {
+  std::vector<T> out(items.begin(), items.begin() + static_cast<std::ptrdiff_t>(lo));
+  out.insert(out.end(), items.begin() + static_cast<std::ptrdiff_t>(hi), items.end());
+  return out;
+}
+
+}  // namespace
+
+void IdentificationOptions::Check() const {
+  if (!(huber_scale_mm >= 0.0) || max_correctness_frames < 0 || difference_steps.size() != 4) {
+    throw std::invalid_argument(
+        "IdentificationOptions: need huber_scale_mm >= 0, max_correctness_frames >= 0 and four "
+        "difference_steps");
+  }
+  for (double s : difference_steps) {
+    if (!(s > 0.0)) throw std::invalid_argument("IdentificationOptions: difference_steps > 0");
+  }
+  correctness.Check();
+  lm.Check();
+}
+
+IdentificationCost EvaluateIdentificationCost(std::span<const IdentificationFrame> frames,
+                                              const CorrectnessTarget* target,
+                                              const DepthErrorModel& model,
+                                              const IdentificationOptions& options) {
+  options.Check();
+  model.Check();
+  CorrectnessPlan plan = PlanCorrectness(frames, target, model, options);
+  const Evaluation e = Evaluate(frames, target, plan, model, options);
+  return {Flatten(e).squaredNorm(), e.report};
+}
+
+DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
+                                   const CorrectnessTarget* target, const DepthErrorModel& start,
+                                   const IdentificationOptions& options) {
+  options.Check();
+  start.Check();
+  const auto t0 = std::chrono::steady_clock::now();
+  int patches = 0;
+  for (const IdentificationFrame& f : frames) patches += static_cast<int>(f.markers.size());
+  if (patches == 0) {
+    throw std::invalid_argument("IdentifyDepthModel: no frame has a marker with head around it");
+  }
+  const CorrectnessPlan plan = PlanCorrectness(frames, target, start, options);
+  DepthErrorModel model = start;
+  const std::vector<double> p0 = ModelParameters(start);
+  const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(p0.data(), std::ssize(p0));
+  const Eigen::VectorXd steps =
+      Eigen::Map<const Eigen::VectorXd>(options.difference_steps.data(), std::ssize(p0));
+  auto residuals = [&](const Eigen::VectorXd& x) {
+    DepthErrorModel m = start;
+    SetModelParameters(m, std::vector<double>(x.data(), x.data() + x.size()));
+    if (!(m.c2 > -0.5)) m.c2 = -0.5;  // keeps Eq. (4) finite while the optimiser explores
+    return Flatten(Evaluate(frames, target, plan, m, options));
+  };
+  const LevenbergMarquardtResult lm = MinimiseLeastSquares(residuals, x0, steps, options.lm);
+  SetModelParameters(model, std::vector<double>(lm.parameters.data(),
+                                                lm.parameters.data() + lm.parameters.size()));
+  const Evaluation final_eval = Evaluate(frames, target, plan, model, options);
+  DepthModelFitReport& rep = model.report;
+  rep = {};
+  rep.method = "levenberg-marquardt";
+  rep.costs = plan.frames.empty() ? "smoothness" : "correctness+smoothness";
+  rep.frames_used = static_cast<int>(frames.size());
+  rep.evaluations = lm.evaluations;
+  rep.initial_cost = 2.0 * lm.initial_cost;
+  rep.final_cost = 2.0 * lm.final_cost;
+  rep.standard_errors.assign(lm.standard_errors.data(),
+                             lm.standard_errors.data() + lm.standard_errors.size());
+  rep.frames = final_eval.report;
+  rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return model;
+}
+
+std::vector<DepthErrorModel> DefaultModelCandidates() {
+  std::vector<DepthErrorModel> out(4);
+  out[1].angle_term = AngleTerm::kThetaSquared;
+  out[2].angle_term = AngleTerm::kOneMinusCos;
+  out[3].use_intensity = true;
+  return out;
+}
+
+std::vector<std::pair<std::string, double>> CrossValidateModels(
+    std::span<const IdentificationFrame> frames, const CorrectnessTarget* target,
+    std::span<const DepthErrorModel> candidates, int folds, const IdentificationOptions& options) {
+  if (folds < 2 || static_cast<std::size_t>(folds) > frames.size()) {
+    throw std::invalid_argument("CrossValidateModels: need 2 <= folds <= frames");
+  }
+  IdentificationOptions plain = options;
+  plain.huber_scale_mm = 0.0;
+  std::vector<std::pair<std::string, double>> out;
+  for (const DepthErrorModel& candidate : candidates) {
+    double sum = 0.0;
+    int count = 0;
+    for (int fold = 0; fold < folds; ++fold) {
+      const std::size_t lo =
+          frames.size() * static_cast<std::size_t>(fold) / static_cast<std::size_t>(folds);
+      const std::size_t hi =
+          frames.size() * static_cast<std::size_t>(fold + 1) / static_cast<std::size_t>(folds);
+      const std::vector<IdentificationFrame> train = WithoutBlock(frames, lo, hi);
+      CorrectnessTarget train_target;
+      const CorrectnessTarget* train_target_ptr = nullptr;
+      if (target && target->skin_in_image) {
+        train_target.skin_in_image = target->skin_in_image;
+        train_target.image_from_ahat = WithoutBlock(std::span(target->image_from_ahat), lo, hi);
+        train_target_ptr = &train_target;
+      }
+      const DepthErrorModel fitted =
+          IdentifyDepthModel(train, train_target_ptr, candidate, options);
+      const IdentificationCost held =
+          EvaluateIdentificationCost(frames.subspan(lo, hi - lo), nullptr, fitted, plain);
+      for (const FrameResidual& r : held.frames) {
+        if (r.err_s_mm < 0.0) continue;
+        sum += r.err_s_mm * r.err_s_mm;
+        ++count;
+      }
+    }
+    out.emplace_back(candidate.Name(), count > 0 ? sum / count : 0.0);
+  }
+  return out;
+}
+
+}  // namespace tofnav

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Patient-specific identification of the depth-error model (Eq. 7) and model comparison.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "tofnav/core/rigid3d.hpp"
+#include "tofnav/correction/depth_error_model.hpp"
+#include "tofnav/correction/identification_frame.hpp"
+#include "tofnav/correction/levenberg_marquardt.hpp"
+#include "tofnav/correction/surface_costs.hpp"
+#include "tofnav/registration/surface_index.hpp"
+
+namespace tofnav {
+
+/// The CT skin and where each frame's camera roughly is in it: what Err_C (Eq. 5) needs.
+struct CorrectnessTarget {
+  const SurfaceIndex* skin_in_image = nullptr;
+  /// image_from_ahat guess per identification frame (same order), nullopt where unknown.
+  std::vector<std::optional<Rigid3d>> image_from_ahat;
+};
+
+struct IdentificationOptions {
+  /// Huber scale of the point distances [mm]; 0 = plain least squares.
+  double huber_scale_mm = 1.0;
+  /// Frames (evenly chosen among those with a guess) that run an ICP per evaluation for Err_C;
+  /// their sum is re-weighted to count as much as all frames' Err_S would.
+  int max_correctness_frames = 30;
+  CorrectnessOptions correctness;
+  LevenbergMarquardtOptions lm;
+  /// Central-difference steps of C1 [mm], C2 [1], C3 [mm per unit g], C4 [mm].
+  std::vector<double> difference_steps = {0.05, 1e-4, 0.05, 0.05};
+  void Check() const;  // throws std::invalid_argument naming the bad field
+};
+
+struct IdentificationCost {
+  double total = 0.0;  // Eq. (7) (robust) [mm^2]
+  std::vector<FrameResidual> frames;
+};
+
+/// Eq. (7) minimised over the model's coefficients, starting from `start` (which also fixes the
+/// variant: angle term, intensity term). Without a target (or a skin) only Err_S is used.
+/// The result carries its fit report (per-frame residuals, standard errors, costs, time).
+/// Throws std::invalid_argument when no frame has a usable marker patch.
+DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
+                                   const CorrectnessTarget* target, const DepthErrorModel& start,
+                                   const IdentificationOptions& options = {});
+
+/// Eq. (7) and the per-frame terms for a given model (ICPs from the target's guesses).
+IdentificationCost EvaluateIdentificationCost(std::span<const IdentificationFrame> frames,
+                                              const CorrectnessTarget* target,
+                                              const DepthErrorModel& model,
+                                              const IdentificationOptions& options = {});
+
+/// Beyond the paper: each candidate variant identified on all but one of `folds` contiguous
+/// blocks of frames and scored by Err_S (Eq. 6, plain RMS over markers, no robust loss) on the
+/// held-out block; returns (name, mean held-out Err_S^2 [mm^2]) per candidate, in order.
+std::vector<std::pair<std::string, double>> CrossValidateModels(
+    std::span<const IdentificationFrame> frames, const CorrectnessTarget* target,
+    std::span<const DepthErrorModel> candidates, int folds,
+    const IdentificationOptions& options = {});
+
+/// The candidates compared by default: theta (paper), theta^2, 1 - cos theta, theta + AB term.
+std::vector<DepthErrorModel> DefaultModelCandidates();
+
+}  // namespace tofnav

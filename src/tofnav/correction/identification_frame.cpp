@@ -1,0 +1,148 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The samples of one frame that the identification (Eq. 5-7) needs, extracted once per frame.
+#include "tofnav/correction/identification_frame.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "tofnav/correction/correct_range.hpp"
+#include "tofnav/correction/depth_error_model.hpp"
+
+namespace tofnav {
+namespace {
+
+constexpr auto kHead = static_cast<std::uint8_t>(PixelClass::kHead);
+
+std::optional<SurfaceSample> Sample(const Image<float>& surface_range, const AhatFrame& frame,
+                                    const AhatCamera& camera, int u, int v,
+                                    const RangeNormalOptions& options) {
+  const std::optional<PixelNormal> n = ComputePixelNormal(surface_range, camera, u, v, options);
+  if (!n) return std::nullopt;
+  return SurfaceSample{camera.PixelRay(u, v), surface_range(u, v), n->incidence_rad,
+                       static_cast<float>(frame.ab(u, v))};
+}
+
+// Local frame of a patch from its measured points: centroid and PCA axes (z = least variance,
+// turned towards the camera).
+void SetLocalFrame(MarkerPatch& patch) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const SurfaceSample& s : patch.neighbours) mean += (s.ray * s.range_mm).cast<double>();
+  mean /= static_cast<double>(patch.neighbours.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const SurfaceSample& s : patch.neighbours) {
+    const Eigen::Vector3d d = (s.ray * s.range_mm).cast<double>() - mean;
+    cov += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  Eigen::Matrix3d axes = eig.eigenvectors();  // ascending: column 0 is the normal
+  Eigen::Vector3d z = axes.col(0);
+  if (z.dot(mean) > 0.0) z = -z;
+  const Eigen::Vector3d x = axes.col(2);
+  patch.local_from_ahat.row(0) = x.transpose();
+  patch.local_from_ahat.row(1) = z.cross(x).transpose();
+  patch.local_from_ahat.row(2) = z.transpose();
+  patch.origin_in_ahat = mean;
+}
+
+MarkerPatch MakePatch(const MarkerArea& area, const Image<float>& surface_range,
+                      const FrameSegmentation& seg, const AhatFrame& frame,
+                      const AhatCamera& camera, const MarkerRangeModel& marker_model,
+                      const IdentificationSampling& sampling) {
+  MarkerPatch patch;
+  patch.scale_mm = sampling.patch_radius_mm;
+  for (int i : EvenSubsample(static_cast<int>(area.pixels.size()), sampling.max_marker_points)) {
+    const Eigen::Vector2i& px = area.pixels[static_cast<std::size_t>(i)];
+    const Eigen::Vector3d ray = camera.PixelRay(px.x(), px.y()).cast<double>();
+    patch.marker_points.push_back(ray *
+                                  CorrectMarkerRange(frame.range_mm(px.x(), px.y()), marker_model));
+  }
+  // Pixel box around the marker that covers the patch radius at the marker's range.
+  int u0 = camera.width(), v0 = camera.height(), u1 = 0, v1 = 0;
+  for (const Eigen::Vector2i& px : area.pixels) {
+    u0 = std::min(u0, px.x()), v0 = std::min(v0, px.y());
+    u1 = std::max(u1, px.x()), v1 = std::max(v1, px.y());
+  }
+  const double range = std::max(area.centroid_in_ahat.norm(), 100.0);
+  const int margin = static_cast<int>(std::ceil(1.3 * 260.0 * sampling.patch_radius_mm / range));
+  const double radius_sq = sampling.patch_radius_mm * sampling.patch_radius_mm;
+  std::vector<Eigen::Vector2i> candidates;
+  for (int v = std::max(0, v0 - margin); v <= std::min(camera.height() - 1, v1 + margin); ++v) {
+    for (int u = std::max(0, u0 - margin); u <= std::min(camera.width() - 1, u1 + margin); ++u) {
+      if (seg.labels(u, v) != kHead) continue;
+      const Eigen::Vector3d p = camera.PixelRay(u, v).cast<double>() * surface_range(u, v);
+      if ((p - area.centroid_in_ahat).squaredNorm() <= radius_sq) candidates.emplace_back(u, v);
+    }
+  }
+  for (int i : EvenSubsample(static_cast<int>(candidates.size()), sampling.max_patch_points)) {
+    const Eigen::Vector2i& px = candidates[static_cast<std::size_t>(i)];
+    const auto s = Sample(surface_range, frame, camera, px.x(), px.y(), sampling.normals);
+    if (s) patch.neighbours.push_back(*s);
+  }
+  if (static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) SetLocalFrame(patch);
+  return patch;
+}
+
+}  // namespace
+
+void IdentificationSampling::Check() const {
+  segmentation.Check();
+  normals.Check();
+  if (!(patch_radius_mm > 0.0) || min_patch_points < 10 || max_patch_points < min_patch_points ||
+      max_marker_points < 1 || max_head_points < 10) {
+    throw std::invalid_argument(
+        "IdentificationSampling: need patch_radius_mm > 0, 10 <= min_patch_points <= "
+        "max_patch_points, max_marker_points >= 1, max_head_points >= 10");
+  }
+}
+
+std::vector<int> EvenSubsample(int count, int max_count) {
+  std::vector<int> out;
+  if (count <= 0 || max_count <= 0) return out;
+  const int n = std::min(count, max_count);
+  out.reserve(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    out.push_back(static_cast<int>((static_cast<std::int64_t>(i) * count) / n));
+  }
+  return out;
+}
+
+Eigen::Vector3d CorrectedPoint(const SurfaceSample& sample, const DepthErrorModel& model) {
+  return sample.ray.cast<double>() *
+         model.CorrectRangeMm(sample.range_mm, sample.incidence_rad, sample.ab);
+}
+
+IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const AhatCamera& camera,
+                                               const MarkerRangeModel& marker_model, int index,
+                                               const IdentificationSampling& sampling) {
+  sampling.Check();
+  IdentificationFrame out;
+  out.index = index;
+  if (frame.world_from_rig) out.world_from_ahat = *frame.world_from_rig * camera.rig_from_ahat();
+  const FrameSegmentation seg = SegmentFrame(frame, camera, sampling.segmentation);
+  const Image<float> surface_range = SurfaceRange(RangeAsFloat(frame.range_mm), seg);
+  for (const MarkerArea& area : seg.markers) {
+    MarkerPatch patch = MakePatch(area, surface_range, seg, frame, camera, marker_model, sampling);
+    out.marker_points.insert(out.marker_points.end(), patch.marker_points.begin(),
+                             patch.marker_points.end());
+    if (static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) {
+      out.markers.push_back(std::move(patch));
+    }
+  }
+  // Head samples on an even pixel grid, as many as max_head_points allows.
+  if (seg.head_pixels > 0) {
+    const int stride = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(seg.head_pixels) /
+                                                              sampling.max_head_points)));
+    for (int v = 0; v < camera.height(); v += stride) {
+      for (int u = 0; u < camera.width(); u += stride) {
+        if (seg.labels(u, v) != kHead) continue;
+        const auto s = Sample(surface_range, frame, camera, u, v, sampling.normals);
+        if (s) out.head.push_back(*s);
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace tofnav

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The samples of one frame that the identification (Eq. 5-7) needs, extracted once per frame.
+#pragma once
+
+#include <Eigen/Core>
+#include <optional>
+#include <vector>
+
+#include "tofnav/core/point_cloud.hpp"
+#include "tofnav/core/rigid3d.hpp"
+#include "tofnav/correction/depth_error_model.hpp"
+#include "tofnav/correction/frame_segmentation.hpp"
+#include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/correction/range_normals.hpp"
+#include "tofnav/sensor/ahat_camera.hpp"
+#include "tofnav/sensor/ahat_frame.hpp"
+
+namespace tofnav {
+
+/// One head-surface pixel: what Eq. (4) needs to correct it.
+struct SurfaceSample {
+  Eigen::Vector3f ray = Eigen::Vector3f::UnitZ();  // unit ray in `ahat`
+  float range_mm = 0.0f;                           // measured
+  float incidence_rad = 0.0f;                      // theta from the measured normal
+  float ab = 0.0f;                                 // counts
+};
+
+/// One marker with the head surface around it (Eq. 6).
+struct MarkerPatch {
+  Points3d marker_points;                 // Eq. (2)-corrected marker points in `ahat` [mm]
+  std::vector<SurfaceSample> neighbours;  // head pixels within the patch radius
+  /// Fixed local frame of the cubic surface, from the measured neighbours: origin at their
+  /// centroid, z along their least-variance axis; x, y scaled by 1 / patch radius.
+  Eigen::Matrix3d local_from_ahat = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d origin_in_ahat = Eigen::Vector3d::Zero();
+  double scale_mm = 1.0;
+};
+
+struct IdentificationFrame {
+  int index = 0;  // in the recording
+  std::vector<MarkerPatch> markers;
+  std::vector<SurfaceSample> head;         // subsampled head surface for the ICP of Err_C (Eq. 5)
+  Points3d marker_points;                  // every marker's Eq. (2)-corrected points, `ahat` [mm]
+  std::optional<Rigid3d> world_from_ahat;  // from the frame's rig pose, when it has one
+};
+
+struct IdentificationSampling {
+  SegmentationOptions segmentation = {.roi_radius_mm = 130.0};
+  RangeNormalOptions normals;
+  double patch_radius_mm = 22.0;  // head points around a marker for its cubic surface
+  int min_patch_points = 40;      // fewer: the marker is left out of Err_S
+  int max_patch_points = 160;     // evenly subsampled beyond
+  int max_marker_points = 48;     // per marker
+  int max_head_points = 800;      // per frame, for the ICP
+  void Check() const;             // throws std::invalid_argument naming the bad field
+};
+
+/// Segments the frame, corrects marker pixels with Eq. (2) and samples the head surface (with
+/// theta from normals of the surface-only range). Never throws on frame content.
+IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const AhatCamera& camera,
+                                               const MarkerRangeModel& marker_model, int index,
+                                               const IdentificationSampling& sampling = {});
+
+/// The corrected point of a sample under `model` (Eq. 4) [mm].
+Eigen::Vector3d CorrectedPoint(const SurfaceSample& sample, const DepthErrorModel& model);
+
+/// Indices of at most `max_count` of `count` items, evenly spread (all when count <= max_count).
+std::vector<int> EvenSubsample(int count, int max_count);
+
+}  // namespace tofnav

@@ -1,0 +1,84 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Identification (Eq. 5-7) on analytic sphere "heads" with a known linear bias.
+#include "tofnav/correction/identification.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "correction_test_scenes.hpp"
+
+namespace tofnav {
+namespace {
+
+using testing::kHeadRadiusMm;
+using testing::SphereFrames;
+using testing::SphereSkin;
+using testing::TrueModel;
+
+TEST(SmoothnessDistances, ZeroForTheTrueModelAndOffsetForNone) {
+  constexpr double kFitTolMm = 0.02;  // a cubic patch on a 90 mm sphere over 22 mm
+  const std::vector<IdentificationFrame> frames = SphereFrames(TrueModel());
+  for (const MarkerPatch& patch : frames[1].markers) {
+    EXPECT_LT(Rms(SmoothnessDistances(patch, TrueModel())), kFitTolMm);
+    // Uncorrected: the head lies C1 + C2 d + C3 theta farther, the markers (unbiased) closer.
+    EXPECT_GT(Rms(SmoothnessDistances(patch, DepthErrorModel{})), 5.0);
+  }
+}
+
+TEST(IdentifyDepthModel, SmoothnessOnlyRecoversKnownCoefficients) {
+  constexpr double kRelTol = 0.02;  // noise-free: limited by the cubic patch fit
+  const std::vector<IdentificationFrame> frames = SphereFrames(TrueModel());
+  const DepthErrorModel fitted = IdentifyDepthModel(frames, nullptr, DepthErrorModel{});
+  EXPECT_NEAR(fitted.c1_mm, 2.8, 2.8 * kRelTol);
+  EXPECT_NEAR(fitted.c2, 0.010, 0.010 * kRelTol);
+  EXPECT_NEAR(fitted.c3_mm, 4.0, 4.0 * kRelTol);
+  EXPECT_EQ(fitted.report.costs, "smoothness");
+  ASSERT_EQ(fitted.report.frames.size(), 4u);
+  EXPECT_LT(fitted.report.frames[0].err_s_mm, 0.02);
+  EXPECT_LT(fitted.report.final_cost, 1e-3 * fitted.report.initial_cost);
+}
+
+TEST(CorrectnessDistances, ZeroForTheTrueModelAndTheBiasForNone) {
+  constexpr double kSkinTolMm = 0.15;  // point-to-plane to a 3 deg (4.7 mm) skin sampling
+  const std::vector<IdentificationFrame> frames = SphereFrames(TrueModel());
+  const SurfaceIndex skin(SphereSkin());
+  CorrectnessOptions options;
+  options.icp.max_iterations_per_level = 8;  // a sphere never pins the rotation
+  options.icp.max_distance_schedule_mm = {15.0, 6.0, 3.0};
+  const Rigid3d guess = testing::SphereImageFromAhat(frames[1], Eigen::Vector3d(1.0, -1.0, 2.0));
+  const CorrectnessFrame good = CorrectnessDistances(frames[1], TrueModel(), skin, guess, options);
+  EXPECT_TRUE(good.converged);
+  ASSERT_EQ(good.distances.size(), frames[1].marker_points.size());
+  EXPECT_LT(Rms(good.distances), kSkinTolMm);
+  // Uncorrected, the head cap (C1 + C2 d + C3 theta ~ 9 mm too far) registers too far out and
+  // the unbiased markers end up off the skin by millimetres (how many depends on where they sit).
+  const CorrectnessFrame bad =
+      CorrectnessDistances(frames[1], DepthErrorModel{}, skin, guess, options);
+  EXPECT_GT(Rms(bad.distances), 1.0);
+}
+
+TEST(IdentifyDepthModel, RejectsFramesWithoutMarkers) {
+  std::vector<IdentificationFrame> frames(2);
+  EXPECT_THROW(IdentifyDepthModel(frames, nullptr, DepthErrorModel{}), std::invalid_argument);
+}
+
+TEST(MinimiseLeastSquares, FitsAnExponential) {
+  constexpr double kTol = 1e-6;  // noise-free data
+  auto residuals = [](const Eigen::VectorXd& x) {
+    Eigen::VectorXd r(20);
+    for (int i = 0; i < 20; ++i) {
+      const double t = 0.1 * i;
+      r(i) = x(0) * std::exp(x(1) * t) - 2.0 * std::exp(-1.5 * t);
+    }
+    return r;
+  };
+  const LevenbergMarquardtResult result =
+      MinimiseLeastSquares(residuals, Eigen::Vector2d(1.0, 0.0), Eigen::Vector2d(1e-5, 1e-5));
+  EXPECT_NEAR(result.parameters(0), 2.0, kTol);
+  EXPECT_NEAR(result.parameters(1), -1.5, kTol);
+  EXPECT_LT(result.final_cost, 1e-12);
+}
+
+}  // namespace
+}  // namespace tofnav

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The two costs of the identification: surface correctness (Eq. 5) and smoothness (Eq. 6).
+#include "tofnav/correction/surface_costs.hpp"
+
+#include <Eigen/Cholesky>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+namespace tofnav {
+namespace {
+
+using CubicBasis = Eigen::Matrix<double, 10, 1>;
+using BasisArray = std::array<double, 10>;
+
+BasisArray Basis(double x, double y) {
+  return {1.0, x, y, x * x, x * y, y * y, x * x * x, x * x * y, x * y * y, y * y * y};
+}
+
+Eigen::Vector3d ToLocal(const MarkerPatch& patch, const Eigen::Vector3d& point_in_ahat) {
+  Eigen::Vector3d local = patch.local_from_ahat * (point_in_ahat - patch.origin_in_ahat);
+  local.x() /= patch.scale_mm;
+  local.y() /= patch.scale_mm;
+  return local;
+}
+
+}  // namespace
+
+std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErrorModel& model) {
+  std::vector<double> out;
+  if (patch.neighbours.size() < 20 || patch.marker_points.empty()) return out;
+  // Normal equations by hand (plain arrays: this is the identification's inner loop).
+  std::array<double, 100> ata{};
+  BasisArray atb{};
+  for (const SurfaceSample& s : patch.neighbours) {
+    const Eigen::Vector3d p = ToLocal(patch, CorrectedPoint(s, model));
+    const BasisArray b = Basis(p.x(), p.y());
+    for (std::size_t i = 0; i < 10; ++i) {
+      for (std::size_t j = 0; j <= i; ++j) ata[i * 10 + j] += b[i] * b[j];
+      atb[i] += b[i] * p.z();
+    }
+  }
+  Eigen::Matrix<double, 10, 10> a;
+  for (Eigen::Index i = 0; i < 10; ++i) {
+    for (Eigen::Index j = 0; j <= i; ++j) {
+      a(i, j) = a(j, i) = ata[static_cast<std::size_t>(i * 10 + j)];
+    }
+  }
+  const Eigen::LDLT<Eigen::Matrix<double, 10, 10>> ldlt(a);
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return out;
+  const CubicBasis coefficients = ldlt.solve(Eigen::Map<const CubicBasis>(atb.data()));
+  out.reserve(patch.marker_points.size());
+  for (const Eigen::Vector3d& m : patch.marker_points) {
+    const Eigen::Vector3d p = ToLocal(patch, m);
+    const BasisArray b = Basis(p.x(), p.y());
+    out.push_back(p.z() - Eigen::Map<const CubicBasis>(b.data()).dot(coefficients));
+  }
+  return out;
+}
+
+void CorrectnessOptions::Check() const {
+  icp.Check();
+  if (!(max_distance_mm > 0.0)) {
+    throw std::invalid_argument("CorrectnessOptions::max_distance_mm must be > 0");
+  }
+}
+
+CorrectnessFrame CorrectnessDistances(const IdentificationFrame& frame,
+                                      const DepthErrorModel& model, const SurfaceIndex& skin,
+                                      const Rigid3d& image_from_ahat_guess,
+                                      const CorrectnessOptions& options) {
+  CorrectnessFrame out;
+  out.image_from_ahat = image_from_ahat_guess;
+  Points3d head;
+  head.reserve(frame.head.size());
+  for (const SurfaceSample& s : frame.head) head.push_back(CorrectedPoint(s, model));
+  if (static_cast<int>(head.size()) >= options.icp.min_correspondences) {
+    const IcpResult icp = AlignPointToPlane(head, {}, skin, image_from_ahat_guess, options.icp);
+    if (icp.converged) {
+      out.image_from_ahat = icp.target_from_source;
+      out.converged = true;
+    }
+  }
+  out.distances.reserve(frame.marker_points.size());
+  for (const Eigen::Vector3d& m : frame.marker_points) {
+    const Eigen::Vector3d q = out.image_from_ahat * m;
+    const std::optional<Neighbour> nn = skin.Nearest(q, options.max_distance_mm);
+    if (!nn) {
+      out.distances.push_back(options.max_distance_mm);
+      continue;
+    }
+    const Eigen::Vector3d& p = skin.points()[nn->index];
+    out.distances.push_back(skin.normals()[nn->index].dot(q - p));
+  }
+  return out;
+}
+
+double Rms(const std::vector<double>& values) {
+  if (values.empty()) return 0.0;
+  double sum = 0.0;
+  for (double v : values) sum += v * v;
+  return std::sqrt(sum / static_cast<double>(values.size()));
+}
+
+}  // namespace tofnav

@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The two costs of the identification: surface correctness (Eq. 5) and smoothness (Eq. 6).
+#pragma once
+
+#include <optional>
+#include <vector>
+
+#include "tofnav/core/rigid3d.hpp"
+#include "tofnav/correction/depth_error_model.hpp"
+#include "tofnav/correction/identification_frame.hpp"
+#include "tofnav/registration/icp.hpp"
+#include "tofnav/registration/surface_index.hpp"
+
+namespace tofnav {
+
+/// Eq. (6) terms of one marker: the head points around it corrected with Eq. (4), a cubic
+/// polynomial surface z = f(x, y) fitted to them by least squares in the patch's local frame,
+/// and the signed distance (along the local z) of each marker point to it [mm]. Empty when the
+/// patch has too few neighbours or the fit is singular.
+std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErrorModel& model);
+
+/// Eq. (5) of one frame.
+struct CorrectnessOptions {
+  IcpOptions icp = [] {
+    IcpOptions o;
+    o.max_distance_schedule_mm = {6.0, 3.0};
+    return o;
+  }();
+  /// Marker points with no skin point this close count as this far (keeps the residual count
+  /// fixed for the optimiser) [mm].
+  double max_distance_mm = 8.0;
+  void Check() const;  // throws std::invalid_argument naming the bad field
+};
+
+struct CorrectnessFrame {
+  Rigid3d image_from_ahat;  // the ICP result (the guess when it failed)
+  bool converged = false;
+  std::vector<double> distances;  // signed, per marker point (outside the skin > 0) [mm]
+};
+
+/// Corrects the frame's head samples with `model` (Eq. 4), registers them to the skin by the
+/// registration module's point-to-plane ICP from `image_from_ahat_guess`, and measures each
+/// Eq. (2)-corrected marker point's signed distance to the skin (point-to-plane to the nearest
+/// skin sample).
+CorrectnessFrame CorrectnessDistances(const IdentificationFrame& frame,
+                                      const DepthErrorModel& model, const SurfaceIndex& skin,
+                                      const Rigid3d& image_from_ahat_guess,
+                                      const CorrectnessOptions& options = {});
+
+/// sqrt(mean(d^2)), 0 for none.
+double Rms(const std::vector<double>& values);
+
+}  // namespace tofnav
