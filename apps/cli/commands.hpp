@@ -5,8 +5,11 @@
 namespace tofnav {
 
 int RunConvert(int argc, char** argv);
+int RunCorrect(int argc, char** argv);
 int RunEvaluate(int argc, char** argv);
-int RunEvaluateReconstruction(int argc, char** argv);
+int RunEvaluateDepth(int argc, char** argv);           // tofnav evaluate depth
+int RunEvaluateReconstruction(int argc, char** argv);  // tofnav evaluate reconstruction
+int RunIdentify(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 int RunReconstruct(int argc, char** argv);
 int RunSimulate(int argc, char** argv);

@@ -14,7 +14,10 @@ namespace tofnav {
 namespace {
 
 std::vector<Evaluator>& Evaluators() {
-  static std::vector<Evaluator> evaluators;  // filled during static initialisation
+  // Filled during static initialisation (evaluate_<name>.cpp); "depth" is listed here.
+  static std::vector<Evaluator> evaluators = {
+      {"depth", "depth error per object before/after correction vs simulator truth",
+       RunEvaluateDepth}};
   return evaluators;
 }
 

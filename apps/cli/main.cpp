@@ -20,9 +20,13 @@ constexpr Command kCommands[] = {
     {"convert", "re-write a recording as hl2ss RAW/ZDEPTH or StreamRecorder", tofnav::RunConvert},
     {"simulate", "render a scenario into an hl2ss recording plus ground truth",
      tofnav::RunSimulate},
+    {"identify", "identify the patient-specific depth-error model (Eq. 3-7)", tofnav::RunIdentify},
+    {"correct", "apply a depth model to a recording (corrected recording or point clouds)",
+     tofnav::RunCorrect},
     {"reconstruct", "fuse a recording into the head surface in the reference tool's frame",
      tofnav::RunReconstruct},
-    {"evaluate", "compare results with a simulation's ground truth", tofnav::RunEvaluate},
+    {"evaluate", "compare results with a simulation's ground truth (evaluate --help)",
+     tofnav::RunEvaluate},
 };
 
 void PrintUsage() {

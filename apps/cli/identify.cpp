@@ -1,0 +1,153 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav identify: patient-specific depth-error model from a sticker recording (Eq. 3-7).
+#include <CLI/CLI.hpp>
+#include <cstdlib>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "commands.hpp"
+#include "progress.hpp"
+#include "tofnav/core/grid3.hpp"
+#include "tofnav/correction/identification.hpp"
+#include "tofnav/correction/initial_pose.hpp"
+#include "tofnav/fusion/marching_cubes.hpp"
+#include "tofnav/fusion/mesh_components.hpp"
+#include "tofnav/io/ahat_recording.hpp"
+#include "tofnav/io/depth_model_json.hpp"
+#include "tofnav/io/hl2ss_calibration.hpp"
+#include "tofnav/io/mesh_io.hpp"
+#include "tofnav/io/volume_io.hpp"
+
+namespace tofnav {
+namespace {
+
+// The CT skin: HU iso-surface between air and soft tissue, largest component.
+TriangleMesh SkinFromCt(const std::filesystem::path& path, double iso_hu) {
+  CtVolume ct = ReadVolume(path);
+  const Grid3<float> grid(Eigen::Vector3i(ct.nx(), ct.ny(), ct.nz()), std::move(ct.values),
+                          ct.image_from_ijk);
+  GridIsoSurfaceOptions options;
+  options.iso_value = static_cast<float>(iso_hu);
+  options.outside = IsoSurfaceOutside::kBelow;
+  return LargestConnectedComponent(ExtractIsoSurface(grid, options));
+}
+
+}  // namespace
+
+int RunIdentify(int argc, char** argv) {
+  CLI::App app{
+      "Identify the patient-specific depth-error model (paper Eq. 3-7) from a recording "
+      "of the head with stick-on markers (docs/correction.md)",
+      "tofnav identify"};
+  std::filesystem::path recording_path, calibration_path, ct_path, skin_path, frf_path, out_path;
+  std::optional<double> sample_offset;
+  int max_frames = 300, folds = 0;
+  double iso_hu = -400.0;
+  std::string angle_term = "theta";
+  bool intensity = false, quiet = false, json = false;
+  IdentificationSampling sampling;
+  IdentificationOptions options;
+  app.add_option("recording", recording_path, "AHAT recording (hl2ss .bin or StreamRecorder)")
+      ->required();
+  app.add_option("--calibration", calibration_path, "hl2ss calibration folder")->required();
+  app.add_option("--sample-offset", sample_offset, "calibration table sample offset (0 or 0.5)");
+  auto* ct = app.add_option("--ct", ct_path, "pre-operative CT (NRRD, NIfTI, DICOM): Err_C");
+  app.add_option("--skin", skin_path, "CT skin surface (PLY/STL/OBJ, image frame): Err_C")
+      ->excludes(ct);
+  app.add_option("--ct-skin-hu", iso_hu, "HU of the skin iso-surface (with --ct)");
+  app.add_option("--marker-error", frf_path, "f_rf JSON (Eq. 1) for marker pixels");
+  app.add_option("--out", out_path, "depth_model.json to write")->required();
+  app.add_option("--max-frames", max_frames, "frames used, evenly spread")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--model", angle_term, "angle term: theta (paper), theta2, 1-cos");
+  app.add_flag("--intensity", intensity, "add the AB term C4 ln(AB_ref / AB)");
+  app.add_option("--cross-validate", folds, "compare the model variants on K held-out blocks");
+  app.add_option("--roi-radius-mm", sampling.segmentation.roi_radius_mm,
+                 "head ROI around the markers' centroid [mm]");
+  app.add_option("--ab-threshold", sampling.segmentation.marker_ab_threshold,
+                 "marker AB threshold [counts]");
+  app.add_option("--huber-mm", options.huber_scale_mm, "robust (Huber) scale [mm], 0 = off");
+  app.add_option("--correctness-frames", options.max_correctness_frames,
+                 "frames that run an ICP for Err_C");
+  app.add_flag("-q,--quiet", quiet, "no progress bar");
+  app.add_flag("--json", json, "print the result as JSON");
+  CLI11_PARSE(app, argc, argv);
+
+  const AhatCamera camera(ReadHl2ssCalibration(calibration_path, sample_offset));
+  const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
+  std::optional<MarkerRangeModel> frf;
+  if (!frf_path.empty()) frf = ReadMarkerRangeJson(frf_path);
+  DepthErrorModel start;
+  start.angle_term = ParseAngleTerm(angle_term);
+  start.use_intensity = intensity;
+
+  std::vector<IdentificationFrame> frames;
+  {
+    const std::vector<int> picked =
+        EvenSubsample(static_cast<int>(recording->frame_count()), max_frames);
+    ProgressBar progress("identify: frames", quiet || json);
+    for (std::size_t i = 0; i < picked.size(); ++i) {
+      const AhatFrame frame = recording->ReadFrame(static_cast<std::size_t>(picked[i]));
+      frames.push_back(PrepareIdentificationFrame(frame, camera, frf.value_or(MarkerRangeModel{}),
+                                                  picked[i], sampling));
+      progress.Update(i + 1, picked.size());
+    }
+  }
+  std::optional<SurfaceIndex> skin;
+  if (!ct_path.empty()) skin.emplace(SkinFromCt(ct_path, iso_hu));
+  if (!skin_path.empty()) skin.emplace(ReadMesh(skin_path));
+  CorrectnessTarget target;
+  nlohmann::ordered_json registration_report;
+  if (skin) {
+    const InitialPoseResult pose = InitialImageFromAhat(frames, *skin, start);
+    target = {&*skin, pose.image_from_ahat};
+    registration_report = {
+        {"reference_frame", frames[static_cast<std::size_t>(pose.reference_frame)].index},
+        {"accepted", pose.registration.quality.accepted()},
+        {"icp_rmse_mm", pose.registration.icp.rmse_mm}};
+  }
+  DepthModelFile file;
+  file.model = IdentifyDepthModel(frames, skin ? &target : nullptr, start, options);
+  file.marker_range = frf;
+  if (folds >= 2) {
+    const std::vector<DepthErrorModel> candidates = DefaultModelCandidates();
+    file.model.report.cross_validation =
+        CrossValidateModels(frames, skin ? &target : nullptr, candidates, folds, options);
+  }
+  WriteDepthModelJson(out_path, file);
+
+  const DepthErrorModel& m = file.model;
+  if (json) {
+    nlohmann::ordered_json out{{"model", m.Name()},
+                               {"c1_mm", m.c1_mm},
+                               {"c2", m.c2},
+                               {"c3_mm", m.c3_mm},
+                               {"c4_mm", m.c4_mm},
+                               {"costs", m.report.costs},
+                               {"frames", m.report.frames_used},
+                               {"initial_cost_mm2", m.report.initial_cost},
+                               {"final_cost_mm2", m.report.final_cost},
+                               {"seconds", m.report.seconds},
+                               {"registration", registration_report},
+                               {"cross_validation", nlohmann::ordered_json::object()},
+                               {"out", out_path.string()}};
+    for (const auto& [name, cost] : m.report.cross_validation) {
+      out["cross_validation"][name] = cost;
+    }
+    std::cout << out.dump(2) << "\n";
+    return EXIT_SUCCESS;
+  }
+  std::cout << "model " << m.Name() << " (" << m.report.costs << ", " << m.report.frames_used
+            << " frames, " << m.report.seconds << " s)\n"
+            << "  C1 = " << m.c1_mm << " mm, C2 = " << m.c2 << ", C3 = " << m.c3_mm
+            << " mm/unit, C4 = " << m.c4_mm << " mm\n"
+            << "  cost " << m.report.initial_cost << " -> " << m.report.final_cost << " mm^2\n";
+  for (const auto& [name, cost] : m.report.cross_validation) {
+    std::cout << "  held-out Err_S^2 " << name << ": " << cost << " mm^2\n";
+  }
+  std::cout << "wrote " << out_path.string() << "\n";
+  return EXIT_SUCCESS;
+}
+
+}  // namespace tofnav

@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Where the CT skin is in each identification frame: one surface registration, then head poses.
+#include "tofnav/correction/initial_pose.hpp"
+
+#include <stdexcept>
+
+namespace tofnav {
+
+void InitialPoseOptions::Check() const {
+  if (merged_frames < 1) throw std::invalid_argument("InitialPoseOptions::merged_frames >= 1");
+  registration.Check();
+}
+
+InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> frames,
+                                       const SurfaceIndex& skin_in_image,
+                                       const DepthErrorModel& model,
+                                       const InitialPoseOptions& options) {
+  options.Check();
+  std::vector<int> posed;
+  int reference = -1;
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (!frames[i].world_from_ahat || frames[i].head.empty()) continue;
+    posed.push_back(static_cast<int>(i));
+    if (reference < 0 ||
+        frames[i].head.size() > frames[static_cast<std::size_t>(reference)].head.size()) {
+      reference = static_cast<int>(i);
+    }
+  }
+  if (reference < 0) {
+    throw std::invalid_argument("InitialImageFromAhat: no frame has a pose and head samples");
+  }
+  const IdentificationFrame& ref = frames[static_cast<std::size_t>(reference)];
+  const Rigid3d ref_from_world = ref.world_from_ahat->Inverse();
+  PointCloud head_in_ref;
+  for (int k : EvenSubsample(static_cast<int>(posed.size()), options.merged_frames)) {
+    const IdentificationFrame& f =
+        frames[static_cast<std::size_t>(posed[static_cast<std::size_t>(k)])];
+    const Rigid3d ref_from_f = ref_from_world * *f.world_from_ahat;
+    for (const SurfaceSample& s : f.head) {
+      head_in_ref.points.push_back(ref_from_f * CorrectedPoint(s, model));
+    }
+  }
+  RegisterSurfaceOptions reg = options.registration;
+  reg.source_normals.viewpoint = Eigen::Vector3d::Zero();  // the reference camera
+  InitialPoseResult out;
+  out.reference_frame = reference;
+  out.registration = RegisterSurface(head_in_ref, skin_in_image, {}, reg);
+  const Rigid3d image_from_world = out.registration.tool_from_image.Inverse() * ref_from_world;
+  out.image_from_ahat.resize(frames.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    if (frames[i].world_from_ahat)
+      out.image_from_ahat[i] = image_from_world * *frames[i].world_from_ahat;
+  }
+  return out;
+}
+
+}  // namespace tofnav

@@ -1,0 +1,41 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Where the CT skin is in each identification frame: one surface registration, then head poses.
+#pragma once
+
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "tofnav/core/rigid3d.hpp"
+#include "tofnav/correction/depth_error_model.hpp"
+#include "tofnav/correction/identification_frame.hpp"
+#include "tofnav/registration/register_surface.hpp"
+#include "tofnav/registration/surface_index.hpp"
+
+namespace tofnav {
+
+struct InitialPoseOptions {
+  int merged_frames = 12;  // frames (with poses) merged into the reference frame's head cloud
+  RegisterSurfaceOptions registration;
+  void Check() const;  // throws std::invalid_argument naming the bad field
+};
+
+struct InitialPoseResult {
+  /// image_from_ahat per frame (same order), nullopt for frames without a world pose.
+  std::vector<std::optional<Rigid3d>> image_from_ahat;
+  int reference_frame = -1;            // index into the frames
+  RegisterSurfaceResult registration;  // of the reference frame (tool = its `ahat`)
+};
+
+/// The patient is static in `world` (the paper's identification set-up): the head samples of a
+/// few frames, corrected with `model`, are merged into the reference frame (the one with the
+/// most head samples) through their world_from_ahat, registered to the skin by the registration
+/// module (automatic coarse alignment + ICP) and propagated to every frame as
+/// image_from_ahat_j = image_from_world * world_from_ahat_j. Throws std::invalid_argument when
+/// no frame has a pose and head samples.
+InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> frames,
+                                       const SurfaceIndex& skin_in_image,
+                                       const DepthErrorModel& model,
+                                       const InitialPoseOptions& options = {});
+
+}  // namespace tofnav

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// depth_model.json (the identified surface depth model, docs/correction.md) and f_rf JSON.
+#pragma once
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "tofnav/correction/depth_error_model.hpp"
+#include "tofnav/correction/marker_range_model.hpp"
+
+namespace tofnav {
+
+/// What depth_model.json holds: the surface model with its fit report, and optionally the
+/// f_rf (Eq. 1) the identification used for marker pixels.
+struct DepthModelFile {
+  DepthErrorModel model;
+  std::optional<MarkerRangeModel> marker_range;
+};
+
+/// Parses depth_model.json ({"format": "tofnav-depth-model", "version": 1, "model": {...},
+/// "marker_range": {...}?, "fit": {...}?}; docs/correction.md). Throws IoError (path, byte offset
+/// for syntax errors) on malformed JSON, missing or mistyped keys, or a model failing Check().
+/// The fit report is optional and read leniently (unknown keys ignored).
+DepthModelFile DecodeDepthModelJson(std::string_view text,
+                                    const std::filesystem::path& path = "<depth model>");
+std::string EncodeDepthModelJson(const DepthModelFile& file);
+DepthModelFile ReadDepthModelJson(const std::filesystem::path& path);
+void WriteDepthModelJson(const std::filesystem::path& path, const DepthModelFile& file);
+
+/// f_rf as JSON: {"format": "tofnav-marker-range", "version": 1, "range_unit": "mm",
+/// "smoothing_p": p, "knots_mm": [...], "bias_mm": [...], "second_derivative_per_mm": [...]}.
+MarkerRangeModel DecodeMarkerRangeJson(std::string_view text,
+                                       const std::filesystem::path& path = "<marker range>");
+std::string EncodeMarkerRangeJson(const MarkerRangeModel& model);
+MarkerRangeModel ReadMarkerRangeJson(const std::filesystem::path& path);
+void WriteMarkerRangeJson(const std::filesystem::path& path, const MarkerRangeModel& model);
+
+}  // namespace tofnav
