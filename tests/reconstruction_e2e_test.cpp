@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // End to end (slow): simulate the paper's reconstruction set-ups, then run `tofnav reconstruct`
 // and `tofnav evaluate reconstruction` and check the median surface error. Frames per run:
-// TOFNAV_RECON_FRAMES (default 120, 2.7 s of the turntable's sweep).
+// TOFNAV_RECON_FRAMES (default 120, 2.7 s of the turntable's sweep); TOFNAV_RECON_KEEP keeps the
+// simulation folders (temp_directory_path()/tofnav_recon_e2e_*).
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "e2e_common.hpp"
 #include "tofnav/io/depth_model_json.hpp"
 #include "tofnav/io/simulate.hpp"
 #include "tofnav/io/tool_json.hpp"
@@ -34,14 +36,26 @@ std::int64_t Frames() {
 
 // Sigma = 1 mm range noise and no wiggle; scatter, mixed pixels, AB and marker effects stay
 // realistic. Surface bias: none (depth as after a perfect correction), or the paper's Eq. (3)
-// with each material's C1..C3 (to be corrected by `--depth-model`).
-sim::Scenario NoisyScenario(const std::string& name, bool model_bias) {
+// with C1..C3 of `model_material` on every non-retro-reflective surface (the board too: one
+// model is applied to the whole frame), to be corrected by `--depth-model`.
+sim::Scenario NoisyScenario(const std::string& name, const std::string& model_material) {
   sim::Scenario s = sim::BuiltinScenario(name);
   s.frames = Frames();
-  s.render.bias_mode = model_bias ? sim::BiasMode::kModel : sim::BiasMode::kNone;
+  s.render.bias_mode = model_material.empty() ? sim::BiasMode::kNone : sim::BiasMode::kModel;
+  for (const sim::Material& target : s.scene.materials) {
+    if (target.name != model_material) continue;
+    for (sim::Material& m : s.scene.materials) {
+      if (m.retro_reflective) continue;
+      m.model_c1_mm = target.model_c1_mm;
+      m.model_c2 = target.model_c2;
+      m.model_c3_mm_per_rad = target.model_c3_mm_per_rad;
+    }
+    break;
+  }
   s.render.sensor.wiggle_amplitude_mm = 0.0;
   s.render.noise.depth_sigma_ref_mm = 0.0;
-  s.render.noise.depth_sigma_floor_mm = kDepthSigmaMm;
+  const char* sigma = std::getenv("TOFNAV_RECON_SIGMA_MM");  // diagnostics: other noise levels
+  s.render.noise.depth_sigma_floor_mm = sigma != nullptr ? std::atof(sigma) : kDepthSigmaMm;
   if (s.patient) s.patient->write_ct = false;
   return s;
 }
@@ -81,7 +95,8 @@ struct RunResult {
   nlohmann::json evaluate;
 };
 
-// The true Eq. (3) model of material `name` as a depth_model.json.
+// The true Eq. (3) model of material `name` as a depth_model.json, with the true f_rf of the
+// scene's retro-reflective material (the tool's marker ranges are biased by it too).
 std::filesystem::path WriteTrueDepthModel(const sim::Scenario& s, const std::string& name,
                                           const std::filesystem::path& dir) {
   DepthModelFile file;
@@ -90,6 +105,12 @@ std::filesystem::path WriteTrueDepthModel(const sim::Scenario& s, const std::str
     file.model.c1_mm = m.model_c1_mm;
     file.model.c2 = m.model_c2;
     file.model.c3_mm = m.model_c3_mm_per_rad;
+  }
+  for (const sim::Material& m : s.scene.materials) {
+    if (!m.retro_reflective) continue;
+    file.marker_range =
+        testing::TrueRangeModel(m.retro_curve, m.retro_curve_amplitude_mm, s.render.sensor);
+    break;
   }
   const std::filesystem::path path = dir / "depth_model.json";
   WriteDepthModelJson(path, file);
@@ -102,7 +123,7 @@ RunResult SimulateReconstructEvaluate(const std::string& scenario, bool twice = 
   const std::filesystem::path dir =
       std::filesystem::temp_directory_path() / ("tofnav_recon_e2e_" + scenario + model_material);
   std::filesystem::remove_all(dir);
-  const sim::Scenario s = NoisyScenario(scenario, !model_material.empty());
+  const sim::Scenario s = NoisyScenario(scenario, model_material);
   RunSimulation(s, dir);
   const std::filesystem::path tool = WriteTool(s, dir);
   const std::string cli = TOFNAV_CLI;
@@ -128,7 +149,7 @@ RunResult SimulateReconstructEvaluate(const std::string& scenario, bool twice = 
   std::system((cli + " evaluate reconstruction " + (dir / "surface.ply").string() + " --truth " +
                dir.string())
                   .c_str());
-  std::filesystem::remove_all(dir);
+  if (std::getenv("TOFNAV_RECON_KEEP") == nullptr) std::filesystem::remove_all(dir);
   return r;
 }
 

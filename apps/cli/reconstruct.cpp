@@ -7,6 +7,7 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -45,6 +46,8 @@ int RunReconstruct(int argc, char** argv) {
   bool quiet = false, json = false, all_components = false;
   std::optional<std::size_t> max_frames;
   ReconstructOptions options;
+  CorrectRangeOptions correct;
+  double max_incidence_deg = 90.0;
   const std::map<std::string, TsdfWeighting> weightings = {
       {"constant", TsdfWeighting::kConstant}, {"incidence", TsdfWeighting::kIncidence}};
   app.add_option("recording", recording_path, "hl2ss .bin or StreamRecorder folder")->required();
@@ -57,6 +60,13 @@ int RunReconstruct(int argc, char** argv) {
   app.add_option("--depth-model", depth_model_path,
                  "depth_model.json: correct surface ranges by Eq. (4) before fusion (its f_rf, if "
                  "any, also corrects the tool's marker ranges unless --marker-error is given)");
+  app.add_option("--max-incidence-deg", max_incidence_deg,
+                 "with --depth-model: drop pixels seen at a larger incidence (their Eq. (4) term "
+                 "C3 theta rests on the least reliable normals)")
+      ->capture_default_str();
+  app.add_option("--normal-smoothing-px", correct.normals.smoothing_radius_px,
+                 "with --depth-model: range smoothing radius for the normals")
+      ->capture_default_str();
   app.add_option("--marker-error", marker_error_path,
                  "f_rf JSON: correct the tool's marker ranges by Eq. (2) for tracking");
   app.add_option("--roi", roi,
@@ -102,7 +112,6 @@ int RunReconstruct(int argc, char** argv) {
   if (!depth_model_path.empty()) {
     const DepthModelFile file = ReadDepthModelJson(depth_model_path);
     if (file.marker_range) options.marker_error = *file.marker_range;
-    CorrectRangeOptions correct;
     correct.segmentation.min_range_mm = options.tsdf.min_range_mm;
     correct.segmentation.max_range_mm = options.tsdf.max_range_mm;
     correct.segmentation.transition_dilation_px = options.marker_mask_dilation_px;
