@@ -9,6 +9,7 @@ int RunCorrect(int argc, char** argv);
 int RunEvaluate(int argc, char** argv);
 int RunIdentify(int argc, char** argv);
 int RunInfo(int argc, char** argv);
+int RunReconstruct(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 int RunSkin(int argc, char** argv);
 int RunRegister(int argc, char** argv);

@@ -30,7 +30,9 @@ constexpr Command kCommands[] = {
     {"identify", "identify the patient-specific depth-error model (Eq. 3-7)", tofnav::RunIdentify},
     {"correct", "apply a depth model to a recording (corrected recording or point clouds)",
      tofnav::RunCorrect},
-    {"evaluate", "compare outputs with ground truth (evaluate tracking | depth | ...)",
+    {"reconstruct", "fuse a recording into the head surface in the reference tool's frame",
+     tofnav::RunReconstruct},
+    {"evaluate", "compare results with ground truth (evaluate tracking | depth | reconstruction)",
      tofnav::RunEvaluate},
 };
 

@@ -241,6 +241,60 @@ Scenario Reconstruction(const PatientHead* given_head) {
   return s;
 }
 
+// The paper's Table II objects: triangular pyramid, frustum pyramid and hemisphere in the four
+// sizes, named "<shape>_size<k>" (k = 1..4 for 120, 60, 35, 20 mm), standing on a turntable with
+// the six-marker tool; big ones at the back. Same sweep and range as "reconstruction" (Sec. IV-B).
+Scenario ReconstructionShapes(const char* name, Material material) {
+  Scenario s;
+  s.name = name;
+  s.description = "Triangular pyramid, frustum pyramid and hemisphere in the four sizes (" +
+                  material.name +
+                  ") and a six-marker planar tool on a rotation platform sweeping +-45 deg at "
+                  "8 deg/s, fixed headset 300-500 mm away, 2000 frames (Sec. IV-B, Table II)";
+  const int retro = s.scene.AddMaterial(RetroReflectiveMaterial(RetroCurve::kLinear));
+  const int shape_material = s.scene.AddMaterial(std::move(material));
+  const int acrylic = s.scene.AddMaterial(Named(DiffuseMaterial(0.45), "acrylic"));
+  Motion turning;
+  turning.kind = MotionKind::kRotation;
+  turning.start = Rigid3d::Identity();
+  turning.rotation = {Eigen::Vector3d::UnitY(), Eigen::Vector3d::Zero(), 8.0 * kDegToRad,
+                      -45.0 * kDegToRad, 90.0 * kDegToRad};
+  const int platform = s.AddMount("turntable", turning);
+  s.AddObject("platform", BoxMesh({440.0, 20.0, 400.0}), acrylic, platform,
+              Translation({0.0, -10.0, 0.0}));
+  const std::pair<const char*, TestShape> shapes[] = {
+      {"triangular_pyramid", TestShape::kTriangularPyramid},
+      {"frustum_pyramid", TestShape::kFrustumPyramid},
+      {"hemisphere", TestShape::kHemisphere}};
+  // (x, z) of each shape per size on the platform top (y = 0, +z towards the headset).
+  const double x_mm[4][3] = {
+      {-140.0, 0.0, 140.0}, {-150.0, -70.0, 10.0}, {-150.0, -95.0, -40.0}, {10.0, 45.0, 80.0}};
+  const double z_mm[4] = {-110.0, 30.0, 110.0, 110.0};
+  const Rigid3d upright = Rotation(-std::numbers::pi / 2.0, Eigen::Vector3d::UnitX());
+  for (std::size_t k = 0; k < kTestShapeSizesMm.size(); ++k) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      s.AddObject(std::string(shapes[i].first) + "_size" + std::to_string(k + 1),
+                  TestShapeMesh(shapes[i].second, kTestShapeSizesMm[k]), shape_material, platform,
+                  Translation({x_mm[k][i], 0.05, z_mm[k]}) * upright);
+    }
+  }
+  const Eigen::Vector3d eye(0.0, 300.0, 280.0), target(0.0, 30.0, 0.0);
+  const Eigen::Vector3d tool_centre(150.0, 40.0, 60.0);
+  AddToolWithPlate(s, "planar-six", "planar_tool", platform,
+                   Rigid3d(LookAt(tool_centre, eye).rotation, tool_centre), retro, acrylic);
+  s.camera.motion = FixedCamera(eye, target);
+  s.frames = 2000;
+  return s;
+}
+
+Scenario ReconstructionShapesNylon(const PatientHead* /*no patient*/) {
+  return ReconstructionShapes("reconstruction-shapes", NylonMaterial());
+}
+
+Scenario ReconstructionShapesPhotopolymer(const PatientHead* /*no patient*/) {
+  return ReconstructionShapes("reconstruction-shapes-pp", PhotopolymerMaterial());
+}
+
 Scenario EvdUseCase(const PatientHead* given_head) {
   Scenario s;
   s.name = "evd-usecase";
@@ -287,6 +341,8 @@ constexpr Builtin kBuiltins[] = {
     {"head-identification", HeadIdentification, true},
     {"depth-accuracy", DepthAccuracy, false},
     {"reconstruction", Reconstruction, true},
+    {"reconstruction-shapes", ReconstructionShapesNylon, false},
+    {"reconstruction-shapes-pp", ReconstructionShapesPhotopolymer, false},
     {"evd-usecase", EvdUseCase, true},
 };
 

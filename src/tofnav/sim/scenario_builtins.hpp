@@ -11,7 +11,7 @@
 namespace tofnav::sim {
 
 /// "marker-stage", "materials", "head-identification", "depth-accuracy", "reconstruction",
-/// "evd-usecase" (docs/simulator.md describes each).
+/// "reconstruction-shapes", "reconstruction-shapes-pp", "evd-usecase" (docs/simulator.md).
 std::vector<std::string> BuiltinScenarioNames();
 
 /// One-line summary of a built-in.

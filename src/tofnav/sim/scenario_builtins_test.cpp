@@ -29,8 +29,10 @@ Rigid3d AhatFromMount(const Scenario& s, const std::string& name, std::int64_t s
 
 TEST(BuiltinScenario, FrameCountsFollowThePaper) {
   const std::map<std::string, std::int64_t> frames = {
-      {"marker-stage", 4 * 450}, {"materials", 15 * 6 * 250}, {"head-identification", 1000},
-      {"depth-accuracy", 300},   {"reconstruction", 2000},    {"evd-usecase", 2000}};
+      {"marker-stage", 4 * 450},       {"materials", 15 * 6 * 250},
+      {"head-identification", 1000},   {"depth-accuracy", 300},
+      {"reconstruction", 2000},        {"evd-usecase", 2000},
+      {"reconstruction-shapes", 2000}, {"reconstruction-shapes-pp", 2000}};
   ASSERT_EQ(BuiltinScenarioNames().size(), frames.size());
   for (const auto& [name, count] : frames) {
     if (name == "head-identification" || name == "evd-usecase" || name == "reconstruction") {

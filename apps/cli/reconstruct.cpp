@@ -1,0 +1,179 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav reconstruct: fuse a recording's frames, posed by the reference tool, into a surface.
+#include "tofnav/io/reconstruct.hpp"
+
+#include <CLI/CLI.hpp>
+#include <cstdlib>
+#include <iostream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <optional>
+#include <vector>
+
+#include "commands.hpp"
+#include "progress.hpp"
+#include "tofnav/core/require.hpp"
+#include "tofnav/correction/correct_range.hpp"
+#include "tofnav/io/depth_model_json.hpp"
+#include "tofnav/io/hl2ss_calibration.hpp"
+#include "tofnav/io/marker_range_json.hpp"
+#include "tofnav/io/mesh_io.hpp"
+#include "tofnav/io/tool_json.hpp"
+
+namespace tofnav {
+namespace {
+
+Eigen::AlignedBox3d RoiFromList(const std::vector<double>& v) {
+  Require(v.size() == 6, "--roi needs six numbers: xmin,ymin,zmin,xmax,ymax,zmax");
+  const Eigen::Vector3d lo(v[0], v[1], v[2]), hi(v[3], v[4], v[5]);
+  Require((hi.array() > lo.array()).all(), "--roi: each max must exceed its min");
+  return {lo, hi};
+}
+
+nlohmann::ordered_json Vector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+}  // namespace
+
+int RunReconstruct(int argc, char** argv) {
+  CLI::App app{
+      "Fuse a recording's AHAT frames, posed by the tracked reference tool, into a TSDF in the "
+      "tool frame and extract the surface as PLY (docs/reconstruction.md)",
+      "tofnav reconstruct"};
+  std::filesystem::path recording_path, calibration_dir, tool_path, out_path, depth_model_path,
+      marker_error_path;
+  std::optional<double> sample_offset;
+  std::vector<double> roi;
+  bool quiet = false, json = false, all_components = false;
+  std::optional<std::size_t> max_frames;
+  ReconstructOptions options;
+  CorrectRangeOptions correct;
+  double max_incidence_deg = 90.0;
+  const std::map<std::string, TsdfWeighting> weightings = {
+      {"constant", TsdfWeighting::kConstant}, {"incidence", TsdfWeighting::kIncidence}};
+  app.add_option("recording", recording_path, "hl2ss .bin or StreamRecorder folder")->required();
+  app.add_option("--calibration", calibration_dir,
+                 "hl2ss calibration folder (default: the recording's own, StreamRecorder)");
+  app.add_option("--sample-offset", sample_offset, "calibration table sample offset (0 or 0.5)");
+  app.add_option("--tool", tool_path, "reference tool JSON (the fusion frame)")->required();
+  app.add_option("--out", out_path, "output surface (.ply, .stl or .obj), in the tool frame")
+      ->required();
+  app.add_option("--depth-model", depth_model_path,
+                 "depth_model.json: correct surface ranges by Eq. (4) before fusion (its f_rf, if "
+                 "any, also corrects the tool's marker ranges unless --marker-error is given)");
+  app.add_option("--max-incidence-deg", max_incidence_deg,
+                 "with --depth-model: drop pixels seen at a larger incidence (their Eq. (4) term "
+                 "C3 theta rests on the least reliable normals)")
+      ->capture_default_str();
+  app.add_option("--normal-smoothing-px", correct.normals.smoothing_radius_px,
+                 "with --depth-model: range smoothing radius for the normals")
+      ->capture_default_str();
+  app.add_option("--marker-error", marker_error_path,
+                 "f_rf JSON: correct the tool's marker ranges by Eq. (2) for tracking");
+  app.add_option("--roi", roi,
+                 "region of interest in the tool frame: xmin,ymin,zmin,xmax,ymax,zmax")
+      ->delimiter(',')
+      ->expected(6);
+  app.add_option("--voxel-mm", options.tsdf.voxel_size_mm, "voxel size [mm]")
+      ->capture_default_str();
+  app.add_option("--truncation-vox", options.tsdf.truncation_vox, "truncation [voxels]")
+      ->capture_default_str();
+  app.add_option("--max-weight", options.tsdf.max_weight, "running-average weight cap")
+      ->capture_default_str();
+  app.add_option("--weighting", options.tsdf.weighting, "constant or incidence")
+      ->transform(CLI::CheckedTransformer(weightings, CLI::ignore_case));
+  app.add_option("--ab-weight-reference", options.ab_weight_reference,
+                 "weigh pixels by min(1, (AB / this)^2); 0 = off")
+      ->capture_default_str();
+  app.add_option("--min-weight", options.mesh.min_weight,
+                 "mesh only cells whose corners weigh more than this")
+      ->capture_default_str();
+  app.add_option("--min-range-mm", options.tsdf.min_range_mm)->capture_default_str();
+  app.add_option("--max-range-mm", options.tsdf.max_range_mm)->capture_default_str();
+  app.add_option("--first-frame", options.first_frame)->capture_default_str();
+  app.add_option("--every", options.frame_step, "fuse every n-th frame")->capture_default_str();
+  app.add_option("--max-frames", max_frames, "consider at most N frames (after --every)");
+  app.add_flag("--all-components", all_components, "keep every connected component");
+  app.add_flag("-q,--quiet", quiet, "no progress bar");
+  app.add_flag("--json", json, "print the summary as one JSON object");
+  CLI11_PARSE(app, argc, argv);
+
+  if (!roi.empty()) options.tsdf.roi_in_tool = RoiFromList(roi);
+  options.max_frames = max_frames;
+  options.largest_component = !all_components;
+  const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
+  std::optional<AhatCalibration> calibration;
+  if (!calibration_dir.empty()) {
+    calibration = ReadHl2ssCalibration(calibration_dir, sample_offset);
+  } else {
+    calibration = recording->calibration();
+    Require(calibration.has_value(), "the recording has no calibration: give --calibration DIR");
+  }
+  const AhatCamera camera(*calibration);
+  if (!depth_model_path.empty()) {
+    const DepthModelFile file = ReadDepthModelJson(depth_model_path);
+    if (file.marker_range) options.marker_error = *file.marker_range;
+    correct.segmentation.min_range_mm = options.tsdf.min_range_mm;
+    correct.segmentation.max_range_mm = options.tsdf.max_range_mm;
+    correct.segmentation.transition_dilation_px = options.marker_mask_dilation_px;
+    options.correct_range = [model = file.model, correct](const AhatFrame& frame,
+                                                          const AhatCamera& cam) {
+      return CorrectRangeImage(frame, cam, model, correct);
+    };
+  }
+  if (!marker_error_path.empty()) options.marker_error = ReadMarkerRangeJson(marker_error_path).model;
+  const ToolGeometry tool = ReadToolJson(tool_path);
+  ProgressBar progress("reconstruct", quiet || json);
+  const ReconstructResult r = ReconstructSurface(
+      *recording, camera, tool, options,
+      [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+  WriteMesh(out_path, r.mesh);
+  const double rate = r.total_s > 0.0 ? static_cast<double>(r.frames_considered) / r.total_s : 0.0;
+  const double fuse_ms =
+      r.frames_fused > 0 ? 1e3 * r.fuse_s / static_cast<double>(r.frames_fused) : 0.0;
+  if (json) {
+    nlohmann::ordered_json skipped = nlohmann::ordered_json::object();
+    for (const auto& [status, count] : r.skipped_by_status) skipped[status] = count;
+    const nlohmann::ordered_json summary{
+        {"out", out_path.string()},
+        {"tool", tool.name},
+        {"depth_model", depth_model_path.string()},
+        {"marker_error", !options.marker_error.empty()},
+        {"frames", r.frames_considered},
+        {"frames_fused", r.frames_fused},
+        {"frames_skipped", r.frames_skipped},
+        {"skipped_by_status", skipped},
+        {"roi_min_mm", Vector(r.roi_in_tool.min())},
+        {"roi_max_mm", Vector(r.roi_in_tool.max())},
+        {"roi_automatic", r.roi_automatic},
+        {"voxel_mm", options.tsdf.voxel_size_mm},
+        {"truncation_mm", options.tsdf.truncation_mm()},
+        {"blocks", r.blocks},
+        {"vertices", r.mesh.vertices.size()},
+        {"triangles", r.mesh.triangles.size()},
+        {"vertices_before_component", r.mesh_vertices_before_component},
+        {"read_s", r.read_s},
+        {"track_s", r.track_s},
+        {"prepare_s", r.prepare_s},
+        {"fuse_s", r.fuse_s},
+        {"fuse_ms_per_frame", fuse_ms},
+        {"mesh_s", r.mesh_s},
+        {"elapsed_s", r.total_s},
+        {"frames_per_s", rate}};
+    std::cout << summary.dump(2) << "\n";
+    return EXIT_SUCCESS;
+  }
+  std::cout << "fused " << r.frames_fused << " of " << r.frames_considered << " frames ("
+            << r.frames_skipped << " skipped: tool not ok) into " << r.blocks << " blocks; "
+            << r.mesh.vertices.size() << " vertices, " << r.mesh.triangles.size()
+            << " triangles -> " << out_path.string() << "\n"
+            << "  ROI (" << (r.roi_automatic ? "automatic" : "given") << ") ["
+            << r.roi_in_tool.min().transpose() << "] - [" << r.roi_in_tool.max().transpose()
+            << "] mm in " << tool.name << "\n"
+            << "  " << r.total_s << " s (" << rate << " frames/s): fusion " << fuse_ms
+            << " ms/frame, markers and ranges " << r.prepare_s << " s, poses " << r.track_s
+            << " s, reading " << r.read_s << " s, meshing " << 1e3 * r.mesh_s << " ms\n";
+  return EXIT_SUCCESS;
+}
+
+}  // namespace tofnav
