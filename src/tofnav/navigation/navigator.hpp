@@ -61,7 +61,7 @@ struct NavigationState {
   std::optional<Rigid3d> world_from_rig;    // this frame's head pose
   std::optional<Rigid3d> world_from_image;  // Eq. (8): kTracking (current) or kHolding (held)
   std::vector<PlacedTrajectory> plan;       // one per NavigationCase::plan when world_from_image
-  ToolStatus instrument_status = ToolStatus::kOutOfView;
+  std::optional<ToolStatus> instrument_status;  // with an instrument only
   std::optional<Rigid3d> ahat_from_instrument;  // measured in this frame
   std::optional<Rigid3d> tool_from_instrument;  // both tools measured in this frame
   std::optional<Eigen::Vector3d> tip_in_world;
