@@ -18,7 +18,10 @@ namespace tofnav {
 
 struct NavigatorOptions {
   MarkerDetectionOptions markers;
-  ToolTrackerOptions tracking;
+  /// The pose filter is off by default: it runs in `ahat`, where the headframe moves with every
+  /// head motion (0.1-0.3 m/s), and gates many good poses there (evd-usecase: 198 of 240 frames
+  /// tracked with it, 240 without, at a lower entry error; docs/navigation.md).
+  ToolTrackerOptions tracking{.filter_enabled = false};
   /// The reference tool unseen for longer than this [s]: its last pose is no longer current.
   double stale_after_s = 0.1;
   /// Instrument axis in its own frame (towards the tip); nullopt: from the markers' centroid to
