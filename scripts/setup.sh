@@ -10,6 +10,7 @@ packages=(
   clang-14 clang-format-14 libclang-rt-14-dev
   libgdcm-dev                                    # io/: DICOM series
   libopenigtlink-dev                             # stream/: OpenIGTLink (1.11)
+  libnanoflann-dev                               # registration/: KD-tree
   python3-numpy python3-nibabel python3-pydicom  # tests/volume_oracle.py
   invesalius-examples mricron-data               # real head CT/MR read by tests, never committed
 )

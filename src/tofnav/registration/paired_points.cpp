@@ -1,0 +1,81 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Paired-point registration (Horn / Umeyama) and the Fitzpatrick FRE/TRE relations.
+#include "tofnav/registration/paired_points.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <cmath>
+
+#include "tofnav/core/require.hpp"
+
+namespace tofnav {
+namespace {
+
+constexpr double kCollinear = 1e-10;  // relative second singular value of the centred points
+
+Eigen::Matrix3Xd ToMatrix(std::span<const Eigen::Vector3d> points) {
+  Eigen::Matrix3Xd m(3, static_cast<Eigen::Index>(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i) m.col(static_cast<Eigen::Index>(i)) = points[i];
+  return m;
+}
+
+}  // namespace
+
+PairedPointResult RegisterPairedPoints(std::span<const Eigen::Vector3d> source,
+                                       std::span<const Eigen::Vector3d> target) {
+  Require(source.size() == target.size(), "RegisterPairedPoints: point counts differ");
+  Require(source.size() >= 3, "RegisterPairedPoints: needs at least 3 pairs");
+  const Eigen::Matrix3Xd s = ToMatrix(source);
+  const Eigen::Matrix3Xd t = ToMatrix(target);
+  Require(s.allFinite() && t.allFinite(), "RegisterPairedPoints: points must be finite");
+  const Eigen::Matrix3Xd s_centred = s.colwise() - s.rowwise().mean();
+  const Eigen::Vector3d spread = Eigen::JacobiSVD<Eigen::Matrix3Xd>(s_centred).singularValues();
+  Require(spread(1) > kCollinear * std::max(spread(0), 1e-300),
+          "RegisterPairedPoints: the source points are collinear");
+  // Umeyama (1991) without scaling: R = U diag(1, 1, det(U V^T)) V^T of the cross-covariance.
+  const Eigen::Matrix4d matrix = Eigen::umeyama(s, t, false);
+  PairedPointResult result;
+  result.target_from_source =
+      Rigid3d(Eigen::Quaterniond(Eigen::Matrix3d(matrix.topLeftCorner<3, 3>())),
+              matrix.topRightCorner<3, 1>());
+  double sum_sq = 0.0;
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    const double r = (result.target_from_source * source[i] - target[i]).norm();
+    result.residuals_mm.push_back(r);
+    sum_sq += r * r;
+  }
+  result.fre_rms_mm = std::sqrt(sum_sq / static_cast<double>(source.size()));
+  return result;
+}
+
+double PredictFiducialTreMm(std::span<const Eigen::Vector3d> fiducials, double fle_rms_mm,
+                            const Eigen::Vector3d& target) {
+  Require(fiducials.size() >= 3, "PredictFiducialTreMm: needs at least 3 fiducials");
+  Require(fle_rms_mm >= 0.0, "PredictFiducialTreMm: fle_rms_mm must be >= 0");
+  const Eigen::Matrix3Xd f = ToMatrix(fiducials);
+  const Eigen::Vector3d centroid = f.rowwise().mean();
+  const Eigen::Matrix3Xd centred = f.colwise() - centroid;
+  const auto n = static_cast<double>(fiducials.size());
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(centred * centred.transpose() / n);
+  const Eigen::Vector3d offset = target - centroid;
+  double sum = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d axis = axes.eigenvectors().col(k);
+    // Squared distances from principal axis k: |x|^2 - (x . axis)^2.
+    const double f_sq =
+        (centred.colwise().squaredNorm().array() - (axis.transpose() * centred).array().square())
+            .mean();
+    const double d_sq = offset.squaredNorm() - std::pow(offset.dot(axis), 2);
+    Require(f_sq > 0.0, "PredictFiducialTreMm: the fiducials are collinear");
+    sum += d_sq / f_sq;
+  }
+  return fle_rms_mm * std::sqrt((1.0 + sum / 3.0) / n);
+}
+
+double EstimateFleFromFreMm(double fre_rms_mm, std::size_t fiducial_count) {
+  Require(fiducial_count >= 3, "EstimateFleFromFreMm: needs at least 3 fiducials");
+  return fre_rms_mm / std::sqrt(1.0 - 2.0 / static_cast<double>(fiducial_count));
+}
+
+}  // namespace tofnav

@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Registration quality: covariance-based TRE prediction and the refusal rules.
+#include "tofnav/registration/registration_quality.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <tuple>
+
+#include "tofnav/core/require.hpp"
+#include "tofnav/registration/sampling.hpp"
+
+namespace tofnav {
+namespace {
+
+constexpr double kSingular = 1e-12;  // relative eigenvalue below which J^T J is singular
+
+std::string Format(const char* format, double a, double b) {
+  char text[256];
+  std::snprintf(text, sizeof(text), format, a, b);
+  return text;
+}
+
+/// The first failed rule, or kOk; with its message.
+std::pair<RegistrationStatus, std::string> Decide(const IcpResult& icp,
+                                                  const RegistrationQuality& q,
+                                                  const RegistrationThresholds& t) {
+  using S = RegistrationStatus;
+  if (icp.correspondences < 6) {
+    return {S::kNoOverlap, Format("the reconstruction does not overlap the skin (%.0f matched "
+                                  "points, inlier fraction %.3f)",
+                                  icp.correspondences, q.inlier_fraction)};
+  }
+  if (q.inlier_fraction < t.min_inlier_fraction) {
+    return {S::kLowInlierFraction,
+            Format("inlier fraction %.3f is below %.3f: too little of the reconstruction lies on "
+                   "the skin",
+                   q.inlier_fraction, t.min_inlier_fraction)};
+  }
+  if (q.rmse_mm > t.max_rmse_mm) {
+    return {S::kHighRmse, Format("RMSE %.3f mm is above %.3f mm", q.rmse_mm, t.max_rmse_mm)};
+  }
+  if (q.conditioning.rotation < t.min_rotation_conditioning) {
+    return {S::kIllConditioned,
+            Format("the surface leaves the rotation free (conditioning %.2g < %.2g): a "
+                   "sphere-like surface can slide; include face features",
+                   q.conditioning.rotation, t.min_rotation_conditioning)};
+  }
+  if (q.conditioning.translation < t.min_translation_conditioning) {
+    return {S::kIllConditioned,
+            Format("the surface leaves the translation free (conditioning %.2g < %.2g)",
+                   q.conditioning.translation, t.min_translation_conditioning)};
+  }
+  if (q.ambiguity > t.max_ambiguity) {
+    return {S::kAmbiguous, Format("another pose fits almost as well (cost ratio %.2f > %.2f): "
+                                  "the surface is too symmetric or featureless to register",
+                                  q.ambiguity, t.max_ambiguity)};
+  }
+  if (!icp.converged) {
+    return {S::kNotConverged, Format("ICP did not converge in %.0f iterations (inlier fraction "
+                                     "%.3f)",
+                                     icp.iterations, q.inlier_fraction)};
+  }
+  if (q.max_predicted_tre_mm > t.max_predicted_tre_mm) {
+    return {S::kHighPredictedTre, Format("predicted TRE %.3f mm at a target is above %.3f mm",
+                                         q.max_predicted_tre_mm, t.max_predicted_tre_mm)};
+  }
+  return {S::kOk, Format("RMSE %.3f mm, inlier fraction %.3f", q.rmse_mm, q.inlier_fraction)};
+}
+
+}  // namespace
+
+void RegistrationThresholds::Check() const {
+  Require(max_rmse_mm > 0.0, "RegistrationThresholds.max_rmse_mm must be > 0");
+  Require(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0,
+          "RegistrationThresholds.min_inlier_fraction must lie in [0, 1]");
+  Require(min_rotation_conditioning >= 0.0 && min_translation_conditioning >= 0.0,
+          "RegistrationThresholds.min_*_conditioning must be >= 0");
+  Require(max_predicted_tre_mm > 0.0, "RegistrationThresholds.max_predicted_tre_mm must be > 0");
+  Require(correlation_length_mm > 0.0, "RegistrationThresholds.correlation_length_mm must be > 0");
+  Require(max_ambiguity > 0.0, "RegistrationThresholds.max_ambiguity must be > 0");
+}
+
+std::vector<double> PredictSurfaceTreMm(const IcpResult& icp, const Points3d& source_points,
+                                        std::span<const Eigen::Vector3d> targets_in_target,
+                                        double correlation_length_mm) {
+  std::vector<double> tre(targets_in_target.size(), std::numeric_limits<double>::infinity());
+  const Points3d inliers = Gather(source_points, icp.inlier_indices);
+  if (inliers.size() < 6) return tre;
+  const auto cells = static_cast<double>(VoxelSubsample(inliers, correlation_length_mm).size());
+  const double inflation = static_cast<double>(inliers.size()) / cells;  // N / N_eff >= 1
+  const Eigen::SelfAdjointEigenSolver<Matrix6d> solver(icp.information);
+  const Vector6d& values = solver.eigenvalues();
+  if (!(values(0) > kSingular * values(5))) return tre;
+  const Matrix6d covariance = icp.residual_sigma_mm * icp.residual_sigma_mm * inflation *
+                              solver.eigenvectors() * values.cwiseInverse().asDiagonal() *
+                              solver.eigenvectors().transpose();
+  for (std::size_t i = 0; i < targets_in_target.size(); ++i) {
+    const Eigen::Vector3d lever = targets_in_target[i] - icp.centre_in_target;
+    Eigen::Matrix<double, 3, 6> jacobian;  // displacement omega x lever + v
+    jacobian << -(Eigen::Matrix3d() << 0, -lever.z(), lever.y(), lever.z(), 0, -lever.x(),
+                  -lever.y(), lever.x(), 0)
+                     .finished(),
+        Eigen::Matrix3d::Identity();
+    tre[i] = std::sqrt((jacobian * covariance * jacobian.transpose()).trace());
+  }
+  return tre;
+}
+
+RegistrationQuality AssessRegistration(const IcpResult& icp, const Points3d& source_points,
+                                       std::span<const Eigen::Vector3d> targets_in_target,
+                                       const RegistrationThresholds& thresholds, double ambiguity) {
+  thresholds.Check();
+  RegistrationQuality q;
+  q.rmse_mm = icp.rmse_mm;
+  q.inlier_fraction = icp.inlier_fraction;
+  q.residual_sigma_mm = icp.residual_sigma_mm;
+  q.conditioning = icp.conditioning;
+  q.ambiguity = ambiguity;
+  q.predicted_tre_mm =
+      PredictSurfaceTreMm(icp, source_points, targets_in_target, thresholds.correlation_length_mm);
+  for (const double tre : q.predicted_tre_mm)
+    q.max_predicted_tre_mm = std::max(q.max_predicted_tre_mm, tre);
+  std::tie(q.status, q.message) = Decide(icp, q, thresholds);
+  return q;
+}
+
+const char* ToString(RegistrationStatus status) {
+  switch (status) {
+    case RegistrationStatus::kOk:
+      return "ok";
+    case RegistrationStatus::kNoOverlap:
+      return "no-overlap";
+    case RegistrationStatus::kNotConverged:
+      return "not-converged";
+    case RegistrationStatus::kLowInlierFraction:
+      return "low-inlier-fraction";
+    case RegistrationStatus::kHighRmse:
+      return "high-rmse";
+    case RegistrationStatus::kIllConditioned:
+      return "ill-conditioned";
+    case RegistrationStatus::kHighPredictedTre:
+      return "high-predicted-tre";
+    case RegistrationStatus::kAmbiguous:
+      return "ambiguous";
+  }
+  return "unknown";
+}
+
+}  // namespace tofnav
