@@ -72,10 +72,10 @@ inline EvdCase MakeEvdCase(std::int64_t frames, bool instrument) {
       TrueRangeModel(retro.retro_curve, retro.retro_curve_amplitude_mm, c.scenario.render.sensor);
   if (instrument) {
     c.instrument_from_image = other.scene_from_tool.Inverse() * mount_from_image;
-    const PlannedTrajectory& t = n.plan.front();
-    const Eigen::Vector3d u = (t.target_in_image - t.entry_in_image).normalized();
+    const Trajectory& t = n.plan.front();
+    const Eigen::Vector3d u = (t.target_lps_mm - t.entry_lps_mm).normalized();
     ToolGeometry g = ToolFromSim(other);
-    g.tip_in_tool = c.instrument_from_image * (t.entry_in_image - 10.0 * u);
+    g.tip_in_tool = c.instrument_from_image * (t.entry_lps_mm - 10.0 * u);
     n.instrument = g;
   }
   return c;
@@ -83,8 +83,8 @@ inline EvdCase MakeEvdCase(std::int64_t frames, bool instrument) {
 
 /// The planned direction of the instrument's virtual axis in its own frame (see MakeEvdCase).
 inline Eigen::Vector3d InstrumentAxisInTool(const EvdCase& c) {
-  const PlannedTrajectory& t = c.navigation_case.plan.front();
-  return c.instrument_from_image.rotation * (t.target_in_image - t.entry_in_image).normalized();
+  const Trajectory& t = c.navigation_case.plan.front();
+  return c.instrument_from_image.rotation * (t.target_lps_mm - t.entry_lps_mm).normalized();
 }
 
 inline double Percentile(std::vector<double> v, double q) {

@@ -68,7 +68,7 @@ TEST(NavigationE2E, EvdUseCaseEntryAndDirectionErrorsWithTrueRegistration) {
     const NavigationState with_tool = guide.Process(f.render.frame);
     ++frames;
     if (with_tool.guidance) {  // truth: tip 10 mm before entry 0 on the planned line, axis along
-      const double length = (plan[0].target_in_image - plan[0].entry_in_image).norm();
+      const double length = (plan[0].target_lps_mm - plan[0].entry_lps_mm).norm();
       e.guidance_entry_mm.push_back(std::abs(with_tool.guidance->tip_to_entry_mm - 10.0));
       e.guidance_angle_deg.push_back(with_tool.guidance->angle_to_axis_rad * kRadToDeg);
       e.guidance_depth_mm.push_back(
@@ -80,17 +80,15 @@ TEST(NavigationE2E, EvdUseCaseEntryAndDirectionErrorsWithTrueRegistration) {
     const Rigid3d world_from_image_true =
         f.world_from_rig_true * simulator.camera().rig_from_ahat() * ahat_from_image;
     const Rigid3d ahat_from_image_est = *s.ahat_from_tool * c.tool_from_image;
-    for (const PlannedTrajectory& t : plan) {
-      const Eigen::Vector3d d_true =
-          ahat_from_image.rotation * (t.target_in_image - t.entry_in_image);
+    for (const Trajectory& t : plan) {
+      const Eigen::Vector3d d_true = ahat_from_image.rotation * (t.target_lps_mm - t.entry_lps_mm);
       const Eigen::Vector3d d_est =
-          ahat_from_image_est.rotation * (t.target_in_image - t.entry_in_image);
+          ahat_from_image_est.rotation * (t.target_lps_mm - t.entry_lps_mm);
       e.entry_ahat_mm.push_back(
-          (ahat_from_image_est * t.entry_in_image - ahat_from_image * t.entry_in_image).norm());
+          (ahat_from_image_est * t.entry_lps_mm - ahat_from_image * t.entry_lps_mm).norm());
       e.direction_deg.push_back(AngleBetweenRad(d_est, d_true) * kRadToDeg);
       e.entry_world_mm.push_back(
-          (*s.world_from_image * t.entry_in_image - world_from_image_true * t.entry_in_image)
-              .norm());
+          (*s.world_from_image * t.entry_lps_mm - world_from_image_true * t.entry_lps_mm).norm());
     }
   }
   e.Print("evd-usecase, true tool_from_image, 9 trajectories:");
@@ -156,9 +154,9 @@ TEST(NavigationE2E, LoopbackHl2ssToOpenIgtlinkClient) {
   ASSERT_GT(sent.size(), 0u);
   double worst_mm = 0.0;
   for (std::size_t i = 0; i < received.size(); ++i) {
-    for (const PlannedTrajectory& t : c.navigation_case.plan) {  // points of the plan, in RAS
-      const Eigen::Vector3d in_world = received[i].second * (RasFromImage() * t.target_in_image);
-      worst_mm = std::max(worst_mm, (in_world - sent.at(i) * t.target_in_image).norm());
+    for (const Trajectory& t : c.navigation_case.plan) {  // points of the plan, in RAS
+      const Eigen::Vector3d in_world = received[i].second * (RasFromImage() * t.target_lps_mm);
+      worst_mm = std::max(worst_mm, (in_world - sent.at(i) * t.target_lps_mm).norm());
     }
   }
   std::printf("loopback: %zu RasToWorld received, worst plan-point difference %.2e mm\n",

@@ -6,6 +6,7 @@ namespace tofnav {
 
 int RunConvert(int argc, char** argv);
 int RunInfo(int argc, char** argv);
+int RunNavigate(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 
 }  // namespace tofnav

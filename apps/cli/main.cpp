@@ -20,6 +20,8 @@ constexpr Command kCommands[] = {
     {"convert", "re-write a recording as hl2ss RAW/ZDEPTH or StreamRecorder", tofnav::RunConvert},
     {"simulate", "render a scenario into an hl2ss recording plus ground truth",
      tofnav::RunSimulate},
+    {"navigate", "track the headframe, place the plan and stream it to 3D Slicer (OpenIGTLink)",
+     tofnav::RunNavigate},
 };
 
 void PrintUsage() {

@@ -1,20 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Planned trajectories and the guidance quantities of a tracked instrument against one of them.
+// Guidance quantities of a tracked instrument against a planned trajectory.
 #pragma once
 
 #include <Eigen/Core>
-#include <string>
 
 #include "tofnav/core/rigid3d.hpp"
 
 namespace tofnav {
-
-/// A planned straight trajectory in `image` (CT LPS) [mm]: entry on the skin, target inside.
-struct PlannedTrajectory {
-  std::string name;
-  Eigen::Vector3d entry_in_image = Eigen::Vector3d::Zero();
-  Eigen::Vector3d target_in_image = Eigen::Vector3d::Zero();
-};
 
 /// The instrument against a planned trajectory, all in one frame [mm, rad].
 struct Guidance {

@@ -56,8 +56,8 @@ Navigator::Navigator(AhatCamera camera, NavigationCase navigation_case,
       options_(options),
       tracker_(TrackedTools(case_), options.tracking) {
   options_.Check();
-  for (const PlannedTrajectory& t : case_.plan) {
-    Require((t.target_in_image - t.entry_in_image).norm() > 0.0,
+  for (const Trajectory& t : case_.plan) {
+    Require((t.target_lps_mm - t.entry_lps_mm).norm() > 0.0,
             "trajectory '" + t.name + "': entry and target coincide");
   }
   if (case_.instrument) {
@@ -119,10 +119,10 @@ NavigationState Navigator::Place(double timestamp_s, const TrackingFrame& tracke
     state.status = current ? NavigationStatus::kHolding : NavigationStatus::kReferenceLost;
   }
   if (state.world_from_image) {
-    for (const PlannedTrajectory& t : case_.plan) {
+    for (const Trajectory& t : case_.plan) {
       state.plan.push_back(
-          {*state.world_from_image * t.entry_in_image, *state.world_from_image * t.target_in_image,
-           case_.tool_from_image * t.entry_in_image, case_.tool_from_image * t.target_in_image});
+          {*state.world_from_image * t.entry_lps_mm, *state.world_from_image * t.target_lps_mm,
+           case_.tool_from_image * t.entry_lps_mm, case_.tool_from_image * t.target_lps_mm});
     }
   }
   if (case_.instrument && tracked.tools.size() > 1) PlaceInstrument(state, tracked.tools[1]);

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/imaging/trajectory.hpp"
 #include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/navigation/guidance.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
@@ -36,7 +37,7 @@ struct NavigationCase {
   std::optional<ToolGeometry> instrument;  // needs tip_in_tool
   MarkerRangeModel marker_range;           // f_rf (Eq. 1); empty: no correction
   Rigid3d tool_from_image;                 // the registration (Sec. III-B)
-  std::vector<PlannedTrajectory> plan;     // in `image`
+  std::vector<Trajectory> plan;            // in `image`
 };
 
 enum class NavigationStatus {

@@ -74,10 +74,10 @@ TEST(Navigator, PoseChainIsEquationEight) {
                                    Case(false).tool_from_image.ToMatrix();
   EXPECT_THAT(*s.world_from_image, RigidNear(Rigid3d::FromMatrix(expected), kExactRad, 1e-9));
   ASSERT_EQ(s.plan.size(), 2u);
-  const PlannedTrajectory& p = Case(false).plan[1];
-  const Eigen::Vector4d entry = expected * p.entry_in_image.homogeneous();
+  const Trajectory& p = Case(false).plan[1];
+  const Eigen::Vector4d entry = expected * p.entry_lps_mm.homogeneous();
   EXPECT_NEAR((s.plan[1].entry_in_world - entry.head<3>()).norm(), 0.0, 1e-9);
-  const Eigen::Vector3d target_in_tool = Case(false).tool_from_image * p.target_in_image;
+  const Eigen::Vector3d target_in_tool = Case(false).tool_from_image * p.target_lps_mm;
   EXPECT_NEAR((s.plan[1].target_in_tool - target_in_tool).norm(), 0.0, kExactMm);
   EXPECT_EQ(s.reference_age_s, 0.0);
 }
@@ -122,9 +122,9 @@ TEST(Navigator, InstrumentOnThePlannedLineGivesDepthAndZeroAngle) {
   const Rigid3d world_from_ahat = world_from_rig * Camera().rig_from_ahat();
   const Rigid3d world_from_image = world_from_ahat * ahat_from_tool * c.tool_from_image;
   // Put the drill tip 12 mm before the entry of trajectory 1, its axis along the plan.
-  const PlannedTrajectory& p = c.plan[1];
-  const Eigen::Vector3d entry = world_from_image * p.entry_in_image;
-  const Eigen::Vector3d target = world_from_image * p.target_in_image;
+  const Trajectory& p = c.plan[1];
+  const Eigen::Vector3d entry = world_from_image * p.entry_lps_mm;
+  const Eigen::Vector3d target = world_from_image * p.target_lps_mm;
   const Eigen::Vector3d u = (target - entry).normalized();
   const Eigen::Vector3d tip = entry - 12.0 * u;
   // Drill axis (centroid -> tip) in its frame, rotated onto u; then placed at the tip.
@@ -165,7 +165,7 @@ TEST(Navigator, RejectsBadCase) {
   c.instrument->tip_in_tool.reset();
   EXPECT_THROW(Navigator(Camera(), c), PreconditionError);
   c = Case(false);
-  c.plan[0].target_in_image = c.plan[0].entry_in_image;
+  c.plan[0].target_lps_mm = c.plan[0].entry_lps_mm;
   EXPECT_THROW(Navigator(Camera(), c), PreconditionError);
   Navigator nav(Camera(), Case(false));
   EXPECT_THROW(nav.SelectTrajectory(2), PreconditionError);

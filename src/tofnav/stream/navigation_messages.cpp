@@ -30,7 +30,7 @@ Rigid3d RasFromImage() {
 }
 
 std::vector<NamedMessage> EncodeNavigationFrame(const NavigationState& state,
-                                                const std::vector<PlannedTrajectory>& plan) {
+                                                const std::vector<Trajectory>& plan) {
   const std::uint64_t ts = IgtlTimestamp(std::max(0.0, state.timestamp_s));
   std::vector<NamedMessage> out;
   if (state.ahat_from_tool)
@@ -63,13 +63,13 @@ std::vector<NamedMessage> EncodeNavigationGreetings(
         TransformMessage("ToolTipToTool", Rigid3d({1, 0, 0, 0}, *c.instrument->tip_in_tool), 0));
   }
   std::vector<IgtlPoint> points;
-  for (const PlannedTrajectory& t : c.plan) {
+  for (const Trajectory& t : c.plan) {
     points.push_back(
-        {t.name + " entry", "Entry", {0, 200, 0, 255}, RasFromImage() * t.entry_in_image, 3.0, ""});
+        {t.name + " entry", "Entry", {0, 200, 0, 255}, RasFromImage() * t.entry_lps_mm, 3.0, ""});
     points.push_back({t.name + " target",
                       "Target",
                       {220, 0, 0, 255},
-                      RasFromImage() * t.target_in_image,
+                      RasFromImage() * t.target_lps_mm,
                       3.0,
                       ""});
   }
@@ -87,8 +87,7 @@ std::vector<NamedMessage> EncodeNavigationGreetings(
   return out;
 }
 
-std::string NavigationStatusLine(const NavigationState& s,
-                                 const std::vector<PlannedTrajectory>& plan) {
+std::string NavigationStatusLine(const NavigationState& s, const std::vector<Trajectory>& plan) {
   std::string line = std::string(ToString(s.status)) + Format(" t=%.3fs", s.timestamp_s) +
                      " ref=" + ToString(s.reference_status);
   line += std::isfinite(s.reference_age_s) ? Format(" age=%.0fms", s.reference_age_s * 1e3)

@@ -29,7 +29,7 @@ struct NamedMessage {
 /// Always a STRING "NavigationStatus" (the status line). Time stamps: the frame's, in seconds
 /// since the device booted (hl2ss host ticks).
 std::vector<NamedMessage> EncodeNavigationFrame(const NavigationState& state,
-                                                const std::vector<PlannedTrajectory>& plan);
+                                                const std::vector<Trajectory>& plan);
 
 /// Constant content a client gets on connecting (IgtlServer::SetGreeting): AhatToRig,
 /// ReferenceToRas (the registration, tool in RAS), ToolTipToTool (instrument tip), POINT "Plan"
@@ -42,7 +42,6 @@ std::vector<NamedMessage> EncodeNavigationGreetings(
 
 /// The one-line status: "TRACKING t=12.345s ref=ok age=0ms markers=7 | right-1 tip->entry 3.2mm
 /// angle 1.4deg depth 55.0mm".
-std::string NavigationStatusLine(const NavigationState& state,
-                                 const std::vector<PlannedTrajectory>& plan);
+std::string NavigationStatusLine(const NavigationState& state, const std::vector<Trajectory>& plan);
 
 }  // namespace tofnav
