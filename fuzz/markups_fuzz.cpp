@@ -31,5 +31,11 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     CheckFinite(tofnav::DecodeTrajectoryFcsv(bytes));
   } catch (const tofnav::IoError&) {
   }
+  try {
+    for (const Eigen::Vector3d& p : tofnav::DecodeMarkupPointsJson(bytes)) {
+      if (!p.allFinite()) std::abort();
+    }
+  } catch (const tofnav::IoError&) {
+  }
   return 0;
 }

@@ -5,5 +5,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 name=${1:-release}
 shift || true
-cmake -S . -B "build/$name" -G Ninja "$@" >/dev/null
+launcher=()
+# A compiler cache when the machine has one (developer machines; CI builds without).
+if command -v ccache >/dev/null; then
+  launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache -DCMAKE_C_COMPILER_LAUNCHER=ccache)
+fi
+cmake -S . -B "build/$name" -G Ninja "${launcher[@]}" "$@" >/dev/null
 ninja -C "build/$name"

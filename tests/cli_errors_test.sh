@@ -33,6 +33,12 @@ printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nend_header\n1
   >"$scratch/short.ply"
 expect_failure "short.ply" info "$scratch/short.ply"
 expect_failure "not an AHAT recording" convert "$scratch/random.bin" "$scratch/out_folder" --to stream-recorder
+expect_failure "$scratch/missing.nrrd" skin "$scratch/missing.nrrd" --out "$scratch/skin.ply"
+expect_failure "--fiducials TOOL IMAGE" register --out "$scratch/t.json"
+expect_failure "short.ply" register "$scratch/short.ply" "$scratch/short.ply" --out "$scratch/t.json"
+printf '{"markups":[{"type":"Line"}]}' >"$scratch/plan.mrk.json"
+expect_failure "exactly 2 defined control points" register "$scratch/short.ply" "$scratch/short.ply" \
+  --out "$scratch/t.json" --plan "$scratch/plan.mrk.json"
 "$tofnav" info --help >/dev/null || { echo "FAIL: info --help"; failures=$((failures + 1)); }
 
 [ $failures -eq 0 ] && echo "all CLI error checks passed"

@@ -13,18 +13,6 @@
 namespace tofnav {
 namespace {
 
-// The paper's planar structure: seven Phi 10 mm tape discs on a board (the tool frame's z = 0
-// plane, facing +z); disc centres sit 0.1 mm above it.
-ToolGeometry Structure() {
-  ToolGeometry s;
-  s.name = "stage";
-  s.marker_type = MarkerType::kDisc;
-  s.marker_diameter_mm = 10.0;
-  s.markers_in_tool = {{-60, -40, 0.1}, {5, -45, 0.1}, {55, -30, 0.1}, {-45, 40, 0.1},
-                       {10, 30, 0.1},   {62, 45, 0.1}, {-5, -5, 0.1}};
-  return s;
-}
-
 // 4 x 4 sub-rays: see tracking_e2e_test.cpp (2 x 2 jittered rays add rim coverage noise).
 sim::RenderResult RenderStructure(sim::RetroCurve curve, const Rigid3d& pose, std::uint64_t seed);
 
@@ -34,7 +22,7 @@ sim::Scene StructureScene(sim::RetroCurve curve, const Rigid3d& ahat_from_struct
   const int board = scene.AddMaterial(sim::DiffuseMaterial(0.3));
   scene.AddObject("board", sim::PlaneMesh(170.0, 130.0), board, ahat_from_structure);
   sim::Tool tool{"stage", {}, ahat_from_structure};
-  for (const Eigen::Vector3d& p : Structure().markers_in_tool) {
+  for (const Eigen::Vector3d& p : testing::StageStructure(0.1).markers_in_tool) {
     tool.markers.push_back(sim::DiscMarkerOnSurface(p - Eigen::Vector3d(0, 0, 0.1),
                                                     Eigen::Vector3d::UnitZ(), 10.0, retro, 0.1));
   }
@@ -119,7 +107,8 @@ TEST(MarkerRangeAcceptance, FrfFittedFromAStageRecordingRemovesTheRangeBias) {
       const sim::RenderResult r = RenderStructure(curve, pose, rng());
       frames.push_back({t, LocateMarkers(r.frame, testing::TestCamera()).markers});
     }
-    const StageRangeErrorResult stage = MeasureMarkerRangeErrors(frames, Structure());
+    const StageRangeErrorResult stage =
+        MeasureMarkerRangeErrors(frames, testing::StageStructure(0.1));
     std::vector<double> reference_error;  // PnP + line position along z against the truth
     for (int f = 0; f < 160; ++f) {
       const double t = 0.1 * f;

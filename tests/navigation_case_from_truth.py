@@ -21,10 +21,11 @@ def main() -> int:
     # The truth file streams one frame per line; the header keys precede "frames".
     header = json.loads(text)
     tools = header["tools"]
-    rigid = [name for name, t in tools.items() if t.get("rigid_with_patient")]
-    spheres = [n for n in rigid if all(m["shape"] == "sphere" for m in tools[n]["markers"])]
-    if not spheres:
-        print("no sphere tool rigid with the patient", file=sys.stderr)
+    # The headframe tools: rigid with the patient and named reference* (evd-usecase: two).
+    joined = [n for n, t in tools.items()
+               if t.get("rigid_with_patient") and n.startswith("reference")]
+    if not joined:
+        print("no reference* tool rigid with the patient", file=sys.stderr)
         return 1
     (case / "tools").mkdir(exist_ok=True)
     for name, t in tools.items():
@@ -33,20 +34,22 @@ def main() -> int:
                "marker_type": "sphere" if m[0]["shape"] == "sphere" else "flat",
                "marker_diameter_mm": m[0]["diameter_mm"]}
         (case / "tools" / f"{name}.json").write_text(json.dumps(doc, indent=2) + "\n")
-    first = spheres[0]
+    first = joined[0]
     mount_from_first = np.array(tools[first]["mount_from_tool"])
     markers = []
-    for name in spheres:
+    for name in joined:
         first_from_tool = np.linalg.inv(mount_from_first) @ np.array(tools[name]["mount_from_tool"])
         for m in tools[name]["markers"]:
             markers.append((first_from_tool @ np.append(m["centre_in_tool"], 1.0))[:3].tolist())
-    reference = {"name": "Reference", "markers": markers, "marker_type": "sphere",
+    shape = tools[first]["markers"][0]["shape"]
+    reference = {"name": "Reference", "markers": markers,
+                 "marker_type": "sphere" if shape == "sphere" else "flat",
                  "marker_diameter_mm": tools[first]["markers"][0]["diameter_mm"]}
     (case / "tools" / "reference.json").write_text(json.dumps(reference, indent=2) + "\n")
     registration = {"target_frame": "tool", "source_frame": "image", "units": "mm",
                     "target_from_source": header[f"{first}_from_image"]}
     (case / "tool_from_image.json").write_text(json.dumps(registration, indent=2) + "\n")
-    print(f"reference = {' + '.join(spheres)} ({len(markers)} markers) in the frame of {first}")
+    print(f"reference = {' + '.join(joined)} ({len(markers)} markers) in the frame of {first}")
     return 0
 
 

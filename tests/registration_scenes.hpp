@@ -37,11 +37,13 @@ inline bool IsFrontal(const Eigen::Vector3d& point_in_image, const Eigen::Vector
   return normal.y() > 0.35 && point_in_image.z() > -45.0 && point_in_image.z() < 85.0;
 }
 
-/// `count` points uniformly on the frontal triangles (area-weighted, random barycentric), moved
-/// `noise_mm` (Gaussian sigma) along the normal, with interpolated vertex normals; image frame.
-inline PointCloud FrontalSamples(const TriangleMesh& skin, std::size_t count, double noise_mm,
-                                 std::mt19937_64& rng) {
-  std::vector<int> frontal;
+/// `count` points uniformly on the triangles where `keep(centroid, unit normal)` holds
+/// (area-weighted, random barycentric), moved `noise_mm` (Gaussian sigma) along the normal, with
+/// interpolated vertex normals; image frame.
+template <typename Keep>
+PointCloud SurfaceSamples(const TriangleMesh& skin, std::size_t count, double noise_mm,
+                          std::mt19937_64& rng, Keep&& keep) {
+  std::vector<int> kept;
   std::vector<double> cumulative_area;
   double total = 0.0;
   for (std::size_t t = 0; t < skin.triangles.size(); ++t) {
@@ -50,21 +52,20 @@ inline PointCloud FrontalSamples(const TriangleMesh& skin, std::size_t count, do
     const Eigen::Vector3d b = skin.vertices[static_cast<std::size_t>(tri(1))];
     const Eigen::Vector3d c = skin.vertices[static_cast<std::size_t>(tri(2))];
     const Eigen::Vector3d cross = (b - a).cross(c - a);
-    if (cross.norm() < 1e-9 || !IsFrontal((a + b + c) / 3.0, cross.normalized())) continue;
+    if (cross.norm() < 1e-9 || !keep((a + b + c) / 3.0, cross.normalized())) continue;
     total += 0.5 * cross.norm();
-    frontal.push_back(static_cast<int>(t));
+    kept.push_back(static_cast<int>(t));
     cumulative_area.push_back(total);
   }
   std::uniform_real_distribution<double> uniform(0.0, 1.0);
   std::normal_distribution<double> gauss(0.0, 1.0);
   PointCloud cloud;
-  for (std::size_t i = 0; i < count; ++i) {
+  for (std::size_t i = 0; i < count && !kept.empty(); ++i) {
     const auto pick =
         std::lower_bound(cumulative_area.begin(), cumulative_area.end(), uniform(rng) * total) -
         cumulative_area.begin();
-    const Eigen::Vector3i& tri =
-        skin.triangles[static_cast<std::size_t>(frontal[static_cast<std::size_t>(
-            std::min<std::ptrdiff_t>(pick, std::ssize(frontal) - 1))])];
+    const Eigen::Vector3i& tri = skin.triangles[static_cast<std::size_t>(
+        kept[static_cast<std::size_t>(std::min<std::ptrdiff_t>(pick, std::ssize(kept) - 1))])];
     double u = uniform(rng), v = uniform(rng);
     if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
     const auto corner = [&](int k) { return static_cast<std::size_t>(tri(k)); };
@@ -78,6 +79,12 @@ inline PointCloud FrontalSamples(const TriangleMesh& skin, std::size_t count, do
     cloud.normals.push_back(normal);
   }
   return cloud;
+}
+
+/// SurfaceSamples over the phantom's frontal triangles (IsFrontal).
+inline PointCloud FrontalSamples(const TriangleMesh& skin, std::size_t count, double noise_mm,
+                                 std::mt19937_64& rng) {
+  return SurfaceSamples(skin, count, noise_mm, rng, IsFrontal);
 }
 
 /// The frontal vertices of the skin themselves (noise-free, exactly on the target's samples).

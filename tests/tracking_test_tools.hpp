@@ -26,6 +26,19 @@ inline ToolGeometry SecondTool() {
   return tool;
 }
 
+/// The paper's linear-stage structure (Sec. III-A.1): seven flat Phi 10 mm tape discs on a
+/// board in the tool frame's z = 0 plane, facing +z; disc centres sit `height_mm` above it.
+inline ToolGeometry StageStructure(double height_mm) {
+  ToolGeometry s;
+  s.name = "stage";
+  s.marker_type = MarkerType::kDisc;
+  s.marker_diameter_mm = 10.0;
+  s.markers_in_tool = {{-60, -40, height_mm}, {5, -45, height_mm}, {55, -30, height_mm},
+                       {-45, 40, height_mm},  {10, 30, height_mm}, {62, 45, height_mm},
+                       {-5, -5, height_mm}};
+  return s;
+}
+
 /// A detection whose MarkerCentre(radius) is exactly `centre` (no core samples).
 inline DetectedMarker DetectionAt(const Eigen::Vector3d& centre_in_ahat, double radius_mm) {
   DetectedMarker m;

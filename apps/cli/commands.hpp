@@ -8,5 +8,7 @@ int RunConvert(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 int RunNavigate(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
+int RunSkin(int argc, char** argv);
+int RunRegister(int argc, char** argv);
 
 }  // namespace tofnav

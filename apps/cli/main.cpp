@@ -20,6 +20,9 @@ constexpr Command kCommands[] = {
     {"convert", "re-write a recording as hl2ss RAW/ZDEPTH or StreamRecorder", tofnav::RunConvert},
     {"simulate", "render a scenario into an hl2ss recording plus ground truth",
      tofnav::RunSimulate},
+    {"skin", "extract the outer skin surface of a CT/MR volume as a mesh", tofnav::RunSkin},
+    {"register", "register the CT skin to the reconstructed head (or to fiducials)",
+     tofnav::RunRegister},
     {"navigate", "track the headframe, place the plan and stream it to 3D Slicer (OpenIGTLink)",
      tofnav::RunNavigate},
 };

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -87,7 +88,8 @@ int RunNavigate(int argc, char** argv) {
   std::filesystem::path skin_path, surface_path;
   std::string trajectory, bind = "127.0.0.1", profile = "raw";
   int igtl_port = 18944;
-  bool realtime = false, quiet = false, json = false, no_igtl = false;
+  bool realtime = false, loop = false, quiet = false, json = false, no_igtl = false;
+  double duration_s = 0.0;
   std::optional<double> sample_offset;
   app.add_option("input", input,
                  "hl2ss recording (.bin), StreamRecorder folder, or hl2ss://HOST[:PORT]")
@@ -108,6 +110,8 @@ int RunNavigate(int argc, char** argv) {
   app.add_option("--profile", profile, "live depth profile: raw or zdepth")
       ->check(CLI::IsMember({"raw", "zdepth"}));
   app.add_flag("--realtime", realtime, "replay a recording at its recorded pace");
+  app.add_flag("--loop", loop, "replay a recording again and again (soak tests)");
+  app.add_option("--duration-s", duration_s, "stop after this wall time [s] (0: at the end)");
   app.add_option("--out", out, "per-frame CSV (status, poses, plan, guidance)");
   app.add_flag("-q,--quiet", quiet, "no live status line");
   app.add_flag("--json", json, "print the summary as JSON");
@@ -136,7 +140,8 @@ int RunNavigate(int argc, char** argv) {
     if (!calibration.empty()) camera_calibration = ReadHl2ssCalibration(calibration, sample_offset);
     if (!camera_calibration)
       throw std::runtime_error("--calibration is required for hl2ss recordings");
-    source = std::make_unique<RecordingFrameSource>(std::move(recording), realtime);
+    source =
+        std::make_unique<RecordingFrameSource>(std::move(recording), ReplayOptions{realtime, loop});
   }
   Navigator navigator(AhatCamera(*camera_calibration), c);
   if (!trajectory.empty()) {

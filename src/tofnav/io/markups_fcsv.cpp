@@ -60,17 +60,17 @@ struct Columns {
   std::size_t x = 1, y = 2, z = 3, label = 11;
 };
 
-}  // namespace
+struct Row {
+  std::string label;
+  Eigen::Vector3d position;
+};
 
-std::vector<Trajectory> DecodeTrajectoryFcsv(std::span<const std::uint8_t> bytes,
-                                             const std::filesystem::path& source) {
+/// Every point row, in LPS; IoError when there is none.
+std::vector<Row> DecodeRows(std::span<const std::uint8_t> bytes,
+                            const std::filesystem::path& source) {
   const std::string_view text(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   double sign = -1.0;  // legacy files without a CoordinateSystem line are RAS
   Columns columns;
-  struct Row {
-    std::string label;
-    Eigen::Vector3d position;
-  };
   std::vector<Row> rows;
   std::size_t line_start = 0;
   while (line_start < text.size()) {
@@ -122,7 +122,15 @@ std::vector<Trajectory> DecodeTrajectoryFcsv(std::span<const std::uint8_t> bytes
     if (columns.label < fields.size()) row.label = fields[columns.label];
     rows.push_back(std::move(row));
   }
-  if (rows.empty()) throw IoError(source, bytes.size(), "no points (expected entry, target pairs)");
+  if (rows.empty()) throw IoError(source, bytes.size(), "no points");
+  return rows;
+}
+
+}  // namespace
+
+std::vector<Trajectory> DecodeTrajectoryFcsv(std::span<const std::uint8_t> bytes,
+                                             const std::filesystem::path& source) {
+  const std::vector<Row> rows = DecodeRows(bytes, source);
   if (rows.size() % 2 != 0) {
     throw IoError(
         source, bytes.size(),
@@ -137,6 +145,13 @@ std::vector<Trajectory> DecodeTrajectoryFcsv(std::span<const std::uint8_t> bytes
     plan.push_back(std::move(t));
   }
   return plan;
+}
+
+std::vector<Eigen::Vector3d> DecodeMarkupPointsFcsv(std::span<const std::uint8_t> bytes,
+                                                    const std::filesystem::path& source) {
+  std::vector<Eigen::Vector3d> points;
+  for (const Row& row : DecodeRows(bytes, source)) points.push_back(row.position);
+  return points;
 }
 
 }  // namespace tofnav

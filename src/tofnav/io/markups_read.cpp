@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
@@ -133,10 +134,10 @@ class MarkupReader {
   const std::filesystem::path& source_;
 };
 
-}  // namespace
-
-std::vector<Trajectory> DecodeTrajectoryMarkups(std::span<const std::uint8_t> bytes,
-                                                const std::filesystem::path& source) {
+/// Parses the document and calls `visit` with a reader for each markup of "markups".
+template <typename Visit>
+void ForEachMarkup(std::span<const std::uint8_t> bytes, const std::filesystem::path& source,
+                   Visit&& visit) {
   Json doc;
   try {
     doc = Json::parse(bytes.begin(), bytes.end());
@@ -151,15 +152,22 @@ std::vector<Trajectory> DecodeTrajectoryMarkups(std::span<const std::uint8_t> by
   if (markups == doc.end() || !markups->is_array()) {
     throw IoError(source, std::nullopt, "expected a \"markups\" array");
   }
-  std::vector<Trajectory> plan;
   for (std::size_t i = 0; i < markups->size(); ++i) {
     const Json& markup = (*markups)[i];
     const std::string where = "markups[" + std::to_string(i) + "]";
     if (!markup.is_object()) throw IoError(source, std::nullopt, where + ": expected an object");
-    if (auto trajectory = MarkupReader(markup, where, source).Read(plan.size() + 1)) {
-      plan.push_back(std::move(*trajectory));
-    }
+    visit(MarkupReader(markup, where, source));
   }
+}
+
+}  // namespace
+
+std::vector<Trajectory> DecodeTrajectoryMarkups(std::span<const std::uint8_t> bytes,
+                                                const std::filesystem::path& source) {
+  std::vector<Trajectory> plan;
+  ForEachMarkup(bytes, source, [&](const MarkupReader& markup) {
+    if (auto trajectory = markup.Read(plan.size() + 1)) plan.push_back(std::move(*trajectory));
+  });
   if (plan.empty()) {
     throw IoError(source, std::nullopt,
                   "no trajectory (expected a Line markup or Entry/Target fiducials)");
@@ -167,14 +175,37 @@ std::vector<Trajectory> DecodeTrajectoryMarkups(std::span<const std::uint8_t> by
   return plan;
 }
 
-std::vector<Trajectory> ReadTrajectories(const std::filesystem::path& path) {
+std::vector<Eigen::Vector3d> DecodeMarkupPointsJson(std::span<const std::uint8_t> bytes,
+                                                    const std::filesystem::path& source) {
+  std::vector<Eigen::Vector3d> points;
+  ForEachMarkup(bytes, source, [&](const MarkupReader& markup) {
+    for (const auto& [label, position] : markup.DefinedPoints()) points.push_back(position);
+  });
+  if (points.empty()) throw IoError(source, std::nullopt, "no defined control point");
+  return points;
+}
+
+namespace {
+
+/// The bytes of a markups file and whether it is JSON (else .fcsv); IoError for other extensions.
+std::pair<std::vector<std::uint8_t>, bool> ReadMarkupsFile(const std::filesystem::path& path) {
   const std::string extension = Lower(path.extension().string());
   if (extension != ".json" && extension != ".fcsv") {
     throw IoError(path, std::nullopt, "unknown markups extension (expected .mrk.json or .fcsv)");
   }
-  const std::vector<std::uint8_t> bytes = ReadFileBytes(path);
-  return extension == ".json" ? DecodeTrajectoryMarkups(bytes, path)
-                              : DecodeTrajectoryFcsv(bytes, path);
+  return {ReadFileBytes(path), extension == ".json"};
+}
+
+}  // namespace
+
+std::vector<Trajectory> ReadTrajectories(const std::filesystem::path& path) {
+  const auto [bytes, json] = ReadMarkupsFile(path);
+  return json ? DecodeTrajectoryMarkups(bytes, path) : DecodeTrajectoryFcsv(bytes, path);
+}
+
+std::vector<Eigen::Vector3d> ReadMarkupPoints(const std::filesystem::path& path) {
+  const auto [bytes, json] = ReadMarkupsFile(path);
+  return json ? DecodeMarkupPointsJson(bytes, path) : DecodeMarkupPointsFcsv(bytes, path);
 }
 
 }  // namespace tofnav

@@ -31,4 +31,12 @@ std::vector<Trajectory> DecodeTrajectoryMarkups(std::span<const std::uint8_t> by
 std::vector<Trajectory> DecodeTrajectoryFcsv(std::span<const std::uint8_t> bytes,
                                              const std::filesystem::path& source = "<fcsv>");
 
+/// Every defined control point of every markup (JSON), or every row (.fcsv), in file order, in
+/// LPS mm by the same rules: fiducials for paired-point registration. IoError when there is none.
+std::vector<Eigen::Vector3d> ReadMarkupPoints(const std::filesystem::path& path);
+std::vector<Eigen::Vector3d> DecodeMarkupPointsJson(std::span<const std::uint8_t> bytes,
+                                                    const std::filesystem::path& source = "<json>");
+std::vector<Eigen::Vector3d> DecodeMarkupPointsFcsv(std::span<const std::uint8_t> bytes,
+                                                    const std::filesystem::path& source = "<fcsv>");
+
 }  // namespace tofnav

@@ -123,5 +123,17 @@ TEST(TrajectoryFcsv, RejectsOddRowsIjkAndBadNumbers) {
               HasSubstr("unknown markups extension"));
 }
 
+TEST(MarkupPoints, EveryDefinedPointInLps) {
+  const std::string json = R"({"markups":[{"type":"Fiducial","coordinateSystem":"RAS",
+    "controlPoints":[{"position":[1,2,3]},{"position":[0,0,0],"positionStatus":"undefined"}]},
+    {"type":"Fiducial","controlPoints":[{"position":[4,5,6]}]}]})";
+  EXPECT_EQ(DecodeMarkupPointsJson(Bytes(json)),
+            (std::vector<Eigen::Vector3d>{{-1, -2, 3}, {4, 5, 6}}));
+  EXPECT_EQ(DecodeMarkupPointsFcsv(Bytes("# CoordinateSystem = LPS\na,1,2,3\nb,4,5,6\nc,7,8,9\n")),
+            (std::vector<Eigen::Vector3d>{{1, 2, 3}, {4, 5, 6}, {7, 8, 9}}));
+  EXPECT_THAT(ErrorOf([] { DecodeMarkupPointsJson(Bytes(R"({"markups":[]})")); }),
+              ::testing::HasSubstr("no defined control point"));
+}
+
 }  // namespace
 }  // namespace tofnav

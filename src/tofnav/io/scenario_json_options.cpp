@@ -57,6 +57,9 @@ constexpr Field<ScatterOptions> kScatterFields[] = {
     {"narrow_fraction", &ScatterOptions::narrow_fraction},
     {"narrow_sigma_px", &ScatterOptions::narrow_sigma_px}};
 
+using sim::MultipathOptions;
+constexpr Field<MultipathOptions> kMultipathFields[] = {{"gain", &MultipathOptions::gain}};
+
 constexpr Field<SyntheticAhatOptions> kCalibrationFields[] = {
     {"focal_px", &SyntheticAhatOptions::focal_px},
     {"aspect_y", &SyntheticAhatOptions::aspect_y},
@@ -152,6 +155,10 @@ sim::RenderOptions ParseRender(const Json& json, const std::string& where) {
       if constexpr (std::is_same_v<std::decay_t<decltype(target)>, SensorOptions>) {
         p.Read("floor_depth", target.floor_depth);
       }
+      if constexpr (std::is_same_v<std::decay_t<decltype(target)>, MultipathOptions>) {
+        p.Read("source_stride_px", target.source_stride_px);
+        p.Read("receiver_stride_px", target.receiver_stride_px);
+      }
       p.Finish();
     }
   };
@@ -159,6 +166,7 @@ sim::RenderOptions ParseRender(const Json& json, const std::string& where) {
   part("sensor", options.sensor, kSensorFields);
   part("noise", options.noise, kNoiseFields);
   part("scatter", options.scatter, kScatterFields);
+  part("multipath", options.multipath, kMultipathFields);
   in.Finish();
   Checked(where, [&] { options.Check(); });
   return options;
@@ -235,6 +243,9 @@ OrderedJson RenderJson(const sim::RenderOptions& options) {
   out["sensor"]["floor_depth"] = options.sensor.floor_depth;
   WriteFields(out["noise"], options.noise, kNoiseFields);
   WriteFields(out["scatter"], options.scatter, kScatterFields);
+  WriteFields(out["multipath"], options.multipath, kMultipathFields);
+  out["multipath"]["source_stride_px"] = options.multipath.source_stride_px;
+  out["multipath"]["receiver_stride_px"] = options.multipath.receiver_stride_px;
   return out;
 }
 

@@ -30,6 +30,7 @@ struct FrameBuffers {
   Image<double> ab_noise;     // unit normal draws
   Image<double> depth_noise;  // unit normal draws, then correlated
   Image<std::uint8_t> lit;    // rendered and inside the illumination circle
+  Image<double> solid_angle;  // of each pixel [sr], for multipath
 };
 
 /// The passes of one frame: CastRow (steps 1-3 and the noise draws) and FinishRow (5-7).

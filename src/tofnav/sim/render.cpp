@@ -75,6 +75,29 @@ void ApplyLensScatter(const ScatterOptions& scatter, const PixelRect& window,
   });
 }
 
+// Step 3: one-bounce multipath from the centre-ray truth of this frame.
+void ApplyMultipath(const RenderOptions& options, const Scene& scene, const RenderResult& result,
+                    internal::Workspace& workspace) {
+  if (options.multipath.gain <= 0.0) return;
+  const PixelRect& window = options.window;
+  const internal::PixelRays& rays = workspace.rays;
+  Image<double>& solid_angle = workspace.buffers.solid_angle;
+  ParallelFor(window.v0, window.v0 + window.height, [&](std::int64_t row) {
+    const int v = static_cast<int>(row);
+    for (int u = window.u0; u < window.u0 + window.width; ++u) {
+      // d Omega = dx dy / (1 + x^2 + y^2)^(3/2) on the unit plane z = 1.
+      const bool linear = rays.state(u, v) == internal::PixelRays::kLinear;
+      const double rho2 = 1.0 + rays.plane(u, v).squaredNorm();
+      solid_angle(u, v) =
+          linear ? std::abs(rays.jacobian(u, v).determinant()) / (rho2 * std::sqrt(rho2)) : 0.0;
+    }
+  });
+  const MultipathInputs in{result.truth_range_mm, result.truth_normal_in_ahat,
+                           result.truth_material, rays.centre, solid_angle};
+  AddMultipath(options.multipath, scene, window, in, options.sensor.alias_mm,
+               workspace.buffers.phasor);
+}
+
 // Correlated depth noise: blurred white noise renormalised to unit standard deviation.
 void CorrelateDepthNoise(const NoiseOptions& noise, const PixelRect& window, Image<double>& draws) {
   if (noise.depth_correlation_px <= 0.0) return;
@@ -104,6 +127,7 @@ void RenderOptions::Check() const {
   sensor.Check();
   noise.Check();
   scatter.Check();
+  multipath.Check();
 }
 
 RenderOptions IdealRenderOptions() {
@@ -142,7 +166,7 @@ AhatRenderer::AhatRenderer(const Scene& scene, const AhatCamera& camera)
   rays.jacobian = Image<Eigen::Matrix2d>(w, h, Eigen::Matrix2d::Zero());
   internal::FrameBuffers& b = workspace_->buffers;
   b.phasor = b.scratch_wide = b.scratch_narrow = Image<Complex>(w, h);
-  b.ab_noise = b.depth_noise = Image<double>(w, h);
+  b.ab_noise = b.depth_noise = b.solid_angle = Image<double>(w, h);
   b.lit = Image<std::uint8_t>(w, h, 0);
 }
 
@@ -163,7 +187,8 @@ RenderResult AhatRenderer::Render(const Scene& scene, const Rigid3d& scene_from_
   ParallelFor(window.v0, window.v0 + window.height, [&](std::int64_t v) {
     frame.CastRow(static_cast<int>(v), workspace_->rays, buffers, result);
   });
-  ApplyLensScatter(options.scatter, window, buffers);  // step 4
+  ApplyMultipath(options, scene, result, *workspace_);  // step 3
+  ApplyLensScatter(options.scatter, window, buffers);   // step 4
   CorrelateDepthNoise(options.noise, window, buffers.depth_noise);
   // Steps 5-7: AB, range, noise, wiggle, invalidation, quantisation.
   ParallelFor(window.v0, window.v0 + window.height,

@@ -13,6 +13,7 @@
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
 #include "tofnav/sim/image_filters.hpp"
+#include "tofnav/sim/multipath.hpp"
 #include "tofnav/sim/raycaster.hpp"
 #include "tofnav/sim/scene.hpp"
 #include "tofnav/sim/tof_model.hpp"
@@ -42,6 +43,7 @@ struct RenderOptions {
   SensorOptions sensor;
   NoiseOptions noise;
   ScatterOptions scatter;
+  MultipathOptions multipath;  // off by default (gain 0)
   void Check() const;
 };
 

@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <string>
@@ -22,19 +23,25 @@ class FrameSource {
   virtual std::string description() const = 0;
 };
 
+struct ReplayOptions {
+  bool realtime = false;  // pace by the recorded timestamps (not frame indices: rates vary)
+  bool loop = false;      // restart at the end, timestamps shifted to keep increasing
+};
+
 /// Replays a recording. With `realtime`, Next() sleeps until the frame's time since the first
-/// frame (timestamps, not frame indices: AHAT rates vary) has passed on the steady clock.
+/// frame has passed on the steady clock.
 class RecordingFrameSource : public FrameSource {
  public:
-  RecordingFrameSource(std::unique_ptr<AhatRecording> recording, bool realtime);
+  RecordingFrameSource(std::unique_ptr<AhatRecording> recording, const ReplayOptions& options);
   std::optional<AhatFrame> Next() override;
   std::string description() const override;
   const AhatRecording& recording() const { return *recording_; }
 
  private:
   std::unique_ptr<AhatRecording> recording_;
-  bool realtime_ = false;
+  ReplayOptions options_;
   std::size_t next_ = 0;
+  std::uint64_t shift_ticks_ = 0;  // added to the timestamps of the current pass
   std::chrono::steady_clock::time_point start_;
 };
 

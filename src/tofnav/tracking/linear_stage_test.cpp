@@ -13,23 +13,12 @@
 namespace tofnav {
 namespace {
 
-// The paper's planar structure: flat Phi 10 mm stickers.
-ToolGeometry Structure() {
-  ToolGeometry s;
-  s.name = "stage";
-  s.marker_type = MarkerType::kDisc;
-  s.marker_diameter_mm = 10.0;
-  s.markers_in_tool = {{-60, -40, 0}, {5, -45, 0}, {55, -30, 0}, {-45, 40, 0},
-                       {10, 30, 0},   {62, 45, 0}, {-5, -5, 0}};
-  return s;
-}
-
 TEST(MeasureMarkerRangeErrors, RecoversTheRangeErrorCurveFromRaysAndBiasedRanges) {
   constexpr double kRangeNoiseMm = 0.4, kRayNoiseRad = 2e-4;  // ~0.05 px of centroid noise
   constexpr double kMeanErrorTolMm = 0.12;  // per 100 mm bin: 3 sigma of ~100 samples
   std::mt19937_64 rng(1);
   std::normal_distribution<double> range_noise(0.0, kRangeNoiseMm), ray_noise(0.0, kRayNoiseRad);
-  const ToolGeometry structure = Structure();
+  const ToolGeometry structure = testing::StageStructure(0.0);
   std::vector<StageFrame> frames;
   for (int f = 0; f < 60; ++f) {
     const double t = 0.2 * f;  // the stage moves 7 mm per frame away from the camera

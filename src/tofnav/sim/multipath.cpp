@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// One-bounce diffuse multipath in screen space (tof_physics.md section 6.2).
+#include "tofnav/sim/multipath.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "tofnav/core/parallel_for.hpp"
+#include "tofnav/core/require.hpp"
+
+namespace tofnav::sim {
+namespace {
+
+using Complex = std::complex<double>;
+
+struct Patch {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();   // x_j in ahat [mm]
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // facing the camera
+  double range_mm = 0.0;                             // d_j
+  double weight = 0.0;                               // rho_j Omega_j [sr]
+  double min_r2 = 0.0;                               // patch area: r^2 below it is clamped
+};
+
+// The centre pixel of each stride x stride block of the window that hits a surface.
+std::vector<Patch> SamplePatches(const Scene& scene, const PixelRect& window,
+                                 const MultipathInputs& in, int stride) {
+  std::vector<Patch> patches;
+  for (int v = window.v0 + stride / 2; v < window.v0 + window.height; v += stride) {
+    for (int u = window.u0 + stride / 2; u < window.u0 + window.width; u += stride) {
+      const double d = in.range_mm(u, v), omega = in.solid_angle_sr(u, v);
+      const int m = in.material(u, v);
+      if (d <= 0.0 || omega <= 0.0 || m < 0) continue;
+      const Eigen::Vector3d ray = in.ray_in_ahat(u, v);
+      Eigen::Vector3d n = in.normal_in_ahat(u, v).cast<double>();
+      if (n.dot(ray) > 0.0) n = -n;
+      const double cos_theta = std::max(-n.dot(ray), 1e-3);
+      const double block_omega = omega * stride * stride;
+      const double albedo = scene.materials[static_cast<std::size_t>(m)].albedo;
+      patches.push_back({d * ray, n, d, albedo * block_omega, block_omega * d * d / cos_theta});
+    }
+  }
+  return patches;
+}
+
+// Ratio of indirect to direct irradiance at a receiver, with the phase of d_j + r (not d_i).
+Complex ReceiverRatio(const Patch& receiver, const std::vector<Patch>& patches,
+                      double two_pi_over_two_alias) {
+  const double cos_theta_i = std::max(-receiver.normal.dot(receiver.point.normalized()), 1e-3);
+  Complex sum = 0.0;
+  for (const Patch& p : patches) {
+    const Eigen::Vector3d to_receiver = receiver.point - p.point;
+    const double r2 = to_receiver.squaredNorm();
+    if (r2 <= 0.0) continue;
+    const double r = std::sqrt(r2);
+    const double cos_j = p.normal.dot(to_receiver) / r,
+                 cos_i = -receiver.normal.dot(to_receiver) / r;
+    if (cos_j <= 0.0 || cos_i <= 0.0) continue;  // facing away: no exchange
+    const double form = p.weight * cos_j * cos_i / std::max(r2, p.min_r2);
+    sum += std::polar(form, two_pi_over_two_alias * (p.range_mm + r));
+  }
+  return sum * (receiver.range_mm * receiver.range_mm / (std::numbers::pi * cos_theta_i));
+}
+
+}  // namespace
+
+void MultipathOptions::Check() const {
+  Require(gain >= 0.0 && std::isfinite(gain), "MultipathOptions.gain must be >= 0");
+  Require(source_stride_px >= 1 && source_stride_px <= 128 && receiver_stride_px >= 1 &&
+              receiver_stride_px <= 128,
+          "MultipathOptions: strides must lie in [1, 128] px");
+}
+
+void AddMultipath(const MultipathOptions& options, const Scene& scene, const PixelRect& window,
+                  const MultipathInputs& in, double alias_mm, Image<Complex>& phasor) {
+  options.Check();
+  if (options.gain <= 0.0 || window.width <= 0 || window.height <= 0) return;
+  const std::vector<Patch> patches = SamplePatches(scene, window, in, options.source_stride_px);
+  const int stride = options.receiver_stride_px;
+  const int cols = (window.width + stride - 1) / stride,
+            rows = (window.height + stride - 1) / stride;
+  const double k = 2.0 * std::numbers::pi / (2.0 * alias_mm);
+  // Receivers at block centres; weight 0 where the centre ray hits nothing.
+  Image<Complex> ratio(cols, rows, Complex(0.0));
+  Image<double> valid(cols, rows, 0.0);
+  ParallelFor(0, rows, [&](std::int64_t row) {
+    const int j = static_cast<int>(row);
+    for (int i = 0; i < cols; ++i) {
+      const int u = std::min(window.u0 + i * stride + stride / 2, window.u0 + window.width - 1);
+      const int v = std::min(window.v0 + j * stride + stride / 2, window.v0 + window.height - 1);
+      const double d = in.range_mm(u, v);
+      if (d <= 0.0 || in.material(u, v) < 0) continue;
+      const Eigen::Vector3d ray = in.ray_in_ahat(u, v);
+      Eigen::Vector3d n = in.normal_in_ahat(u, v).cast<double>();
+      if (n.dot(ray) > 0.0) n = -n;
+      ratio(i, j) = ReceiverRatio({d * ray, n, d, 0.0, 0.0}, patches, k);
+      valid(i, j) = 1.0;
+    }
+  });
+  // Bilinear interpolation over the valid receivers, then the pixel's own d_i phase.
+  ParallelFor(window.v0, window.v0 + window.height, [&](std::int64_t row) {
+    const int v = static_cast<int>(row);
+    const double y = (v - window.v0 + 0.5) / stride - 0.5;
+    const int j0 = std::clamp(static_cast<int>(std::floor(y)), 0, rows - 1);
+    const int j1 = std::min(j0 + 1, rows - 1);
+    const double fy = std::clamp(y - j0, 0.0, 1.0);
+    for (int u = window.u0; u < window.u0 + window.width; ++u) {
+      const double d = in.range_mm(u, v);
+      if (d <= 0.0) continue;
+      const double x = (u - window.u0 + 0.5) / stride - 0.5;
+      const int i0 = std::clamp(static_cast<int>(std::floor(x)), 0, cols - 1);
+      const int i1 = std::min(i0 + 1, cols - 1);
+      const double fx = std::clamp(x - i0, 0.0, 1.0);
+      const double w[4] = {(1 - fx) * (1 - fy) * valid(i0, j0), fx * (1 - fy) * valid(i1, j0),
+                           (1 - fx) * fy * valid(i0, j1), fx * fy * valid(i1, j1)};
+      const double w_sum = w[0] + w[1] + w[2] + w[3];
+      if (w_sum <= 0.0) continue;
+      const Complex g = (w[0] * ratio(i0, j0) + w[1] * ratio(i1, j0) + w[2] * ratio(i0, j1) +
+                         w[3] * ratio(i1, j1)) /
+                        w_sum;
+      phasor(u, v) += options.gain * std::abs(phasor(u, v)) * g * std::polar(1.0, k * d);
+    }
+  });
+}
+
+}  // namespace tofnav::sim

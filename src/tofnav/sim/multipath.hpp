@@ -1,0 +1,43 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// One-bounce diffuse multipath in screen space (tof_physics.md section 6.2).
+#pragma once
+
+#include <complex>
+
+#include "tofnav/core/image.hpp"
+#include "tofnav/sim/image_filters.hpp"
+#include "tofnav/sim/scene.hpp"
+
+namespace tofnav::sim {
+
+/// Every visible surface patch re-emits (Lambertian) the light it receives from the camera's
+/// source, and every pixel receives a second path from every patch: half path length
+/// (d_j + |x_i - x_j| + d_i) / 2, amplitude by the form factor times rho_j times `gain`. Patches
+/// and receivers are sampled on coarse pixel grids (visibility between them is not tested: the
+/// screen-space approximation of Fuchs 2010); the receivers' phasor ratio is interpolated to every
+/// pixel. gain 0 switches it off.
+struct MultipathOptions {
+  double gain = 0.0;            // 0 (off, unit tests) .. 1 (realism), dimensionless
+  int source_stride_px = 16;    // one emitting patch per stride x stride pixel block
+  int receiver_stride_px = 16;  // one receiver per block, interpolated in between
+  void Check() const;
+};
+
+/// What the one-bounce pass reads of a rendered frame (the centre ray of each pixel).
+struct MultipathInputs {
+  const Image<float>& range_mm;                  // first-hit range, 0 = none
+  const Image<Eigen::Vector3f>& normal_in_ahat;  // first-hit normal
+  const Image<std::int16_t>& material;           // Scene::materials index, -1 none
+  const Image<Eigen::Vector3d>& ray_in_ahat;     // unit centre ray
+  const Image<double>& solid_angle_sr;           // of the pixel, 0 where unknown
+};
+
+/// Adds the one-bounce paths to `phasor` (amplitude * exp(i 2 pi d / L) per pixel) over `window`.
+/// The added phasor of pixel i is gain * |phasor_i| * sum_j F_ij exp(i 2 pi (d_j + r_ij + d_i) /
+/// (2 L)), with F_ij = rho_j Omega_j cos_j cos_i d_i^2 / (pi r_ij^2 cos theta_i): the ratio of
+/// indirect to direct irradiance at x_i, which keeps the pixel's own albedo, subsurface and
+/// radiometry factors.
+void AddMultipath(const MultipathOptions& options, const Scene& scene, const PixelRect& window,
+                  const MultipathInputs& in, double alias_mm, Image<std::complex<double>>& phasor);
+
+}  // namespace tofnav::sim
