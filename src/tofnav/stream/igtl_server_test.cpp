@@ -8,6 +8,7 @@
 #include "igtl_test_client.hpp"
 #include "matchers.hpp"
 #include "tofnav/stream/igtl_codec.hpp"
+#include "tofnav/stream/navigation_messages.hpp"
 
 namespace tofnav {
 namespace {
@@ -101,6 +102,53 @@ TEST(IgtlServer, StalledClientLosesOldMessagesInsteadOfStallingOthers) {
   EXPECT_EQ(s.published, kMessages + 1u);
   EXPECT_GT(s.messages_dropped, 0u);
   EXPECT_LE(s.max_queue_depth, options.max_queued_messages);
+}
+
+// Acceptance line 1 of issue 8: the Eq. (8) chain of given (true) poses, through the Navigator,
+// the encoder, the server and loopback TCP, decoded by libopenigtlink 1.11 with the CRC check.
+TEST(IgtlServer, OneElevenClientReceivesTheTrueChainWithin1Micrometre) {
+  constexpr double kChainMm = 1e-3;  // issue 8: within 1e-3 mm
+  SyntheticAhatOptions camera_options;
+  camera_options.rig_from_ahat = TypicalRigFromAhat();
+  const AhatCamera camera(MakeSyntheticAhatCalibration(camera_options));
+  NavigationCase c;
+  c.reference.name = "Reference";
+  c.reference.markers_in_tool = {{0, 0, 0}, {50, 0, 0}, {0, 70, 0}, {30, 40, 20}};
+  c.tool_from_image =
+      Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())),
+              {10, -40, 120});
+  c.plan = {{"right-1", {30, -80, 40}, {20, -30, 10}}};
+  Navigator navigator(camera, c);
+  const Rigid3d world_from_rig(
+      Eigen::Quaterniond(Eigen::AngleAxisd(-0.4, Eigen::Vector3d::UnitY())), {100, 1600, -300});
+  const Rigid3d ahat_from_tool(
+      Eigen::Quaterniond(Eigen::AngleAxisd(2.1, Eigen::Vector3d(0.3, -1, 0.2).normalized())),
+      {20, -10, 450});
+  TrackingFrame tracked;
+  tracked.tools.resize(1);
+  tracked.tools[0].measurement.status = ToolStatus::kOk;
+  tracked.tools[0].measurement.ahat_from_tool = ahat_from_tool;
+  IgtlServer server(Ephemeral());
+  IgtlTestClient client(server.port());
+  ASSERT_TRUE(WaitFor([&] { return server.stats().clients == 1; }));
+  const NavigationState s = navigator.Place(3.0, tracked, world_from_rig, 4);
+  for (NamedMessage& m : EncodeNavigationFrame(s, c.plan)) server.Publish(std::move(m.bytes));
+  const auto m = client.ReceiveUntil([](const auto& r) { return r.device_name == "RasToWorld"; });
+  ASSERT_TRUE(m);
+  EXPECT_TRUE(m->crc_ok);
+  const Eigen::Matrix4d truth = world_from_rig.ToMatrix() * camera.rig_from_ahat().ToMatrix() *
+                                ahat_from_tool.ToMatrix() * c.tool_from_image.ToMatrix();
+  const Eigen::Matrix4d ras_to_world = m->transform->ToMatrix();
+  double worst_mm = 0.0;
+  for (const Eigen::Vector3d& p :
+       {c.plan[0].entry_lps_mm, c.plan[0].target_lps_mm, Eigen::Vector3d(100, 100, 100),
+        Eigen::Vector3d(-100, 50, -80)}) {
+    const Eigen::Vector3d p_ras = RasFromImage() * p;
+    worst_mm = std::max(worst_mm, ((ras_to_world * p_ras.homogeneous()).head<3>() -
+                                   (truth * p.homogeneous()).head<3>())
+                                      .norm());
+  }
+  EXPECT_LE(worst_mm, kChainMm);
 }
 
 }  // namespace
