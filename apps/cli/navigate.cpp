@@ -178,8 +178,15 @@ int RunNavigate(int argc, char** argv) {
       std::fprintf(stderr, "\r\033[K%s", line.substr(0, 160).c_str());
     }
   };
+  std::atomic<bool> stop{false};
+  const auto started = std::chrono::steady_clock::now();
+  const auto on_frame = [&](const NavigationState& s) {
+    on_state(s);
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - started;
+    if (duration_s > 0.0 && elapsed.count() > duration_s) stop = true;
+  };
   const NavigationSessionStats stats =
-      RunNavigationSession(*source, navigator, server.get(), on_state);
+      RunNavigationSession(*source, navigator, server.get(), on_frame, &stop);
   if (status_line) std::fprintf(stderr, "\n");
   if (csv) csv->Commit();
   nlohmann::ordered_json summary{{"source", source->description()},
