@@ -74,7 +74,8 @@ TEST(Navigator, PoseChainIsEquationEight) {
                                    Case(false).tool_from_image.ToMatrix();
   EXPECT_THAT(*s.world_from_image, RigidNear(Rigid3d::FromMatrix(expected), kExactRad, 1e-9));
   ASSERT_EQ(s.plan.size(), 2u);
-  const Trajectory& p = Case(false).plan[1];
+  const NavigationCase c = Case(false);
+  const Trajectory& p = c.plan[1];
   const Eigen::Vector4d entry = expected * p.entry_lps_mm.homogeneous();
   EXPECT_NEAR((s.plan[1].entry_in_world - entry.head<3>()).norm(), 0.0, 1e-9);
   const Eigen::Vector3d target_in_tool = Case(false).tool_from_image * p.target_lps_mm;
