@@ -9,6 +9,7 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang-14 clang-format-14 libclang-rt-14-dev
   libgdcm-dev                                    # io/: DICOM series
+  libopenigtlink-dev                             # stream/: OpenIGTLink (1.11)
   libnanoflann-dev                               # registration/: KD-tree
   python3-numpy python3-nibabel python3-pydicom  # tests/volume_oracle.py
   python3-dev pybind11-dev python3-pytest        # python/: bindings and their tests

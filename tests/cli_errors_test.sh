@@ -62,5 +62,14 @@ printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty floa
 expect_failure "truth.json" evaluate reconstruction "$scratch/tri.ply" --truth "$scratch"
 "$tofnav" info --help >/dev/null || { echo "FAIL: info --help"; failures=$((failures + 1)); }
 
+printf '{"name": "R", "markers": [[0,0,0],[50,0,0],[0,60,0],[30,30,20]]}' >"$scratch/ref.json"
+printf '{"target_frame": "tool", "source_frame": "image", "target_from_source": [[1,0,0,0],[0,1,0,0],[0,0,1,0],[0,0,0,1]]}' >"$scratch/reg.json"
+printf '{"markups":[{"type":"Line","controlPoints":[{"position":[0,0,0]},{"position":[0,0,50]}]}]}' >"$scratch/line.mrk.json"
+expect_failure "tcp://127.0.0.1:1" navigate hl2ss://127.0.0.1:1 --tool "$scratch/ref.json" \
+  --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json" --no-igtl
+expect_failure "bad port" navigate hl2ss://host:x --tool "$scratch/ref.json" \
+  --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json"
+expect_failure "HL2SSV23" navigate "$scratch/random.bin" --tool "$scratch/ref.json" \
+  --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json" --no-igtl
 [ $failures -eq 0 ] && echo "all CLI error checks passed"
 exit $failures

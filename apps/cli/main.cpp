@@ -34,6 +34,8 @@ constexpr Command kCommands[] = {
      tofnav::RunReconstruct},
     {"evaluate", "compare results with ground truth (evaluate tracking | depth | reconstruction)",
      tofnav::RunEvaluate},
+    {"navigate", "track the headframe, place the plan and stream it to 3D Slicer (OpenIGTLink)",
+     tofnav::RunNavigate},
 };
 
 void PrintUsage() {

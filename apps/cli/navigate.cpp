@@ -1,0 +1,218 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// `tofnav navigate`: recording or live hl2ss -> Navigator -> OpenIGTLink (3D Slicer), CSV, status.
+#include <unistd.h>
+
+#include <CLI/CLI.hpp>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <iostream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+
+#include "commands.hpp"
+#include "tofnav/io/file.hpp"
+#include "tofnav/io/hl2ss_calibration.hpp"
+#include "tofnav/io/markups_read.hpp"
+#include "tofnav/io/mesh_io.hpp"
+#include "tofnav/io/tool_json.hpp"
+#include "tofnav/io/transform_io.hpp"
+#include "tofnav/stream/hl2ss_client.hpp"
+#include "tofnav/stream/navigation_messages.hpp"
+#include "tofnav/stream/navigation_session.hpp"
+
+namespace tofnav {
+namespace {
+
+/// tool_from_image from a registration file; a file naming image_from_tool is inverted.
+Rigid3d ReadToolFromImage(const std::filesystem::path& path) {
+  const NamedTransform t = ReadTransform(path);
+  if (t.source_frame == "tool" && t.target_frame == "image") return t.target_from_source.Inverse();
+  if (!t.source_frame.empty() && t.source_frame != "image") {
+    throw std::runtime_error(path.string() + ": expected tool_from_image, found " + t.target_frame +
+                             "_from_" + t.source_frame);
+  }
+  return t.target_from_source;
+}
+
+std::string CsvHeader() {
+  return "timestamp_s,status,reference_status,reference_age_s,markers,"
+         "world_from_image_tx_mm,world_from_image_ty_mm,world_from_image_tz_mm,"
+         "world_from_image_qw,world_from_image_qx,world_from_image_qy,world_from_image_qz,"
+         "trajectory,entry_world_x_mm,entry_world_y_mm,entry_world_z_mm,target_world_x_mm,"
+         "target_world_y_mm,target_world_z_mm,instrument_status,tip_world_x_mm,tip_world_y_mm,"
+         "tip_world_z_mm,tip_to_entry_mm,angle_to_axis_deg,remaining_depth_mm,lateral_offset_mm\n";
+}
+
+std::string CsvRow(const NavigationState& s, const std::vector<Trajectory>& plan) {
+  std::ostringstream row;
+  row.precision(10);
+  const auto xyz = [&](const std::optional<Eigen::Vector3d>& p) {
+    for (int i = 0; i < 3; ++i) row << ',' << (p ? std::to_string((*p)[i]) : "");
+  };
+  row << s.timestamp_s << ',' << ToString(s.status) << ',' << ToString(s.reference_status) << ','
+      << (std::isfinite(s.reference_age_s) ? std::to_string(s.reference_age_s) : "") << ','
+      << s.detected_markers;
+  xyz(s.world_from_image ? std::optional(s.world_from_image->translation) : std::nullopt);
+  const auto q = s.world_from_image ? std::optional(s.world_from_image->rotation) : std::nullopt;
+  for (const double v : {q ? q->w() : 0.0, q ? q->x() : 0.0, q ? q->y() : 0.0, q ? q->z() : 0.0}) {
+    row << ',' << (q ? std::to_string(v) : "");
+  }
+  const auto active = static_cast<std::size_t>(s.active_trajectory);
+  row << ',' << (active < plan.size() ? plan[active].name : "");
+  const bool placed = active < s.plan.size();
+  xyz(placed ? std::optional(s.plan[active].entry_in_world) : std::nullopt);
+  xyz(placed ? std::optional(s.plan[active].target_in_world) : std::nullopt);
+  row << ',' << (s.instrument_status ? ToString(*s.instrument_status) : "");
+  xyz(s.tip_in_world);
+  const auto& g = s.guidance;
+  for (const double v :
+       {g ? g->tip_to_entry_mm : 0.0, g ? g->angle_to_axis_rad * 180.0 / std::numbers::pi : 0.0,
+        g ? g->remaining_depth_mm : 0.0, g ? g->lateral_offset_mm : 0.0}) {
+    row << ',' << (g ? std::to_string(v) : "");
+  }
+  row << '\n';
+  return row.str();
+}
+
+}  // namespace
+
+int RunNavigate(int argc, char** argv) {
+  CLI::App app{
+      "Intra-operative navigation: track the headframe, place the plan (Eq. 8), stream "
+      "to 3D Slicer over OpenIGTLink"};
+  std::string input;
+  std::filesystem::path calibration, tool_path, registration, plan_path, instrument_path, out;
+  std::filesystem::path skin_path, surface_path;
+  std::string trajectory, bind = "127.0.0.1", profile = "raw";
+  int igtl_port = 18944;
+  bool realtime = false, loop = false, quiet = false, json = false, no_igtl = false;
+  double duration_s = 0.0;
+  std::optional<double> sample_offset;
+  app.add_option("input", input,
+                 "hl2ss recording (.bin), StreamRecorder folder, or hl2ss://HOST[:PORT]")
+      ->required();
+  app.add_option("--calibration", calibration,
+                 "hl2ss calibration folder (live: Mode 2 when absent)");
+  app.add_option("--tool", tool_path, "reference tool JSON (headframe)")->required();
+  app.add_option("--registration", registration, "tool_from_image (.json, .tfm, .txt)")->required();
+  app.add_option("--plan", plan_path, "planned trajectories (.mrk.json, .fcsv)")->required();
+  app.add_option("--instrument", instrument_path, "tracked instrument JSON with tip_mm");
+  app.add_option("--trajectory", trajectory, "trajectory the instrument is guided along (name)");
+  app.add_option("--skin", skin_path, "CT skin mesh in image (sent as POLYDATA SkinRas)");
+  app.add_option("--surface", surface_path, "reconstructed head in tool (POLYDATA HeadSurface)");
+  app.add_option("--igtl-port", igtl_port, "OpenIGTLink server port (3D Slicer connects)");
+  app.add_option("--igtl-bind", bind, "address to listen on (0.0.0.0: every interface)");
+  app.add_flag("--no-igtl", no_igtl, "do not start the OpenIGTLink server");
+  app.add_option("--sample-offset", sample_offset, "calibration table sample offset (0 or 0.5)");
+  app.add_option("--profile", profile, "live depth profile: raw or zdepth")
+      ->check(CLI::IsMember({"raw", "zdepth"}));
+  app.add_flag("--realtime", realtime, "replay a recording at its recorded pace");
+  app.add_flag("--loop", loop, "replay a recording again and again (soak tests)");
+  app.add_option("--duration-s", duration_s, "stop after this wall time [s] (0: at the end)");
+  app.add_option("--out", out, "per-frame CSV (status, poses, plan, guidance)");
+  app.add_flag("-q,--quiet", quiet, "no live status line");
+  app.add_flag("--json", json, "print the summary as JSON");
+  CLI11_PARSE(app, argc, argv);
+
+  NavigationCase c;
+  c.reference = ReadToolJson(tool_path);
+  c.tool_from_image = ReadToolFromImage(registration);
+  c.plan = ReadTrajectories(plan_path);
+  if (!instrument_path.empty()) c.instrument = ReadToolJson(instrument_path);
+
+  std::unique_ptr<FrameSource> source;
+  std::optional<AhatCalibration> camera_calibration;
+  if (const auto endpoint = ParseHl2ssUri(input)) {
+    camera_calibration = calibration.empty()
+                             ? DownloadHl2ssCalibration(*endpoint, 10.0, sample_offset)
+                             : ReadHl2ssCalibration(calibration, sample_offset);
+    Hl2ssAhatConfig config;
+    config.profile_z = profile == "zdepth" ? Hl2ssDepthProfile::kZdepth : Hl2ssDepthProfile::kSame;
+    config.bitrate_bps = Hl2ssDefaultAhatBitrate(config.profile_z, Hl2ssVideoProfile::kRaw);
+    config.encoder_options = {{10, 1}};
+    source = std::make_unique<Hl2ssAhatClient>(*endpoint, config);
+  } else {
+    auto recording = OpenAhatRecording(input);
+    camera_calibration = recording->calibration();
+    if (!calibration.empty()) camera_calibration = ReadHl2ssCalibration(calibration, sample_offset);
+    if (!camera_calibration)
+      throw std::runtime_error("--calibration is required for hl2ss recordings");
+    source =
+        std::make_unique<RecordingFrameSource>(std::move(recording), ReplayOptions{realtime, loop});
+  }
+  Navigator navigator(AhatCamera(*camera_calibration), c);
+  if (!trajectory.empty()) {
+    int index = -1;
+    for (std::size_t i = 0; i < c.plan.size(); ++i) {
+      if (c.plan[i].name == trajectory) index = static_cast<int>(i);
+    }
+    if (index < 0) throw std::runtime_error("no trajectory named '" + trajectory + "' in the plan");
+    navigator.SelectTrajectory(index);
+  }
+  std::unique_ptr<IgtlServer> server;
+  if (!no_igtl) {
+    server =
+        std::make_unique<IgtlServer>(IgtlServerOptions{.bind_address = bind, .port = igtl_port});
+    std::optional<TriangleMesh> skin, surface;
+    if (!skin_path.empty()) skin = ReadMesh(skin_path);
+    if (!surface_path.empty()) surface = ReadMesh(surface_path);
+    SetNavigationGreetings(*server, navigator, skin, surface);
+  }
+  std::optional<AtomicFileWriter> csv;
+  if (!out.empty()) {
+    csv.emplace(out);
+    csv->Write(CsvHeader());
+  }
+  const bool status_line = !quiet && ::isatty(STDERR_FILENO) != 0;
+  auto last_draw = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  const auto on_state = [&](const NavigationState& s) {
+    if (csv) csv->Write(CsvRow(s, c.plan));
+    const auto now = std::chrono::steady_clock::now();
+    if (status_line && now - last_draw > std::chrono::milliseconds(100)) {
+      last_draw = now;
+      std::string line = NavigationStatusLine(s, c.plan);
+      if (server) line += " | clients " + std::to_string(server->stats().clients);
+      std::fprintf(stderr, "\r\033[K%s", line.substr(0, 160).c_str());
+    }
+  };
+  std::atomic<bool> stop{false};
+  const auto started = std::chrono::steady_clock::now();
+  const auto on_frame = [&](const NavigationState& s) {
+    on_state(s);
+    const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - started;
+    if (duration_s > 0.0 && elapsed.count() > duration_s) stop = true;
+  };
+  const NavigationSessionStats stats =
+      RunNavigationSession(*source, navigator, server.get(), on_frame, &stop);
+  if (status_line) std::fprintf(stderr, "\n");
+  if (csv) csv->Commit();
+  nlohmann::ordered_json summary{{"source", source->description()},
+                                 {"frames", stats.frames},
+                                 {"tracking", stats.tracking},
+                                 {"holding", stats.holding},
+                                 {"reference_lost", stats.reference_lost},
+                                 {"no_world_pose", stats.no_world_pose},
+                                 {"duration_s", stats.last_timestamp_s - stats.first_timestamp_s}};
+  if (server) {
+    const IgtlServerStats s = server->stats();
+    summary["igtl"] = {{"port", server->port()},
+                       {"connections", s.connections},
+                       {"messages_sent", s.messages_sent},
+                       {"messages_dropped", s.messages_dropped},
+                       {"frames_received", s.frames_received},
+                       {"crc_errors", s.crc_errors}};
+  }
+  if (json) {
+    std::cout << summary.dump(2) << "\n";
+  } else if (!quiet) {
+    std::cout << "navigated " << stats.frames << " frames: " << stats.tracking << " tracking, "
+              << stats.holding << " holding, " << stats.reference_lost << " reference lost, "
+              << stats.no_world_pose << " without head pose\n";
+  }
+  return EXIT_SUCCESS;
+}
+
+}  // namespace tofnav

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Live hl2ss AHAT client (port 3804, ahat.md section 6): configuration, packet framing, Mode 2.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "tofnav/io/hl2ss_recording.hpp"
+#include "tofnav/sensor/ahat_calibration.hpp"
+#include "tofnav/stream/frame_source.hpp"
+#include "tofnav/stream/socket.hpp"
+
+namespace tofnav {
+
+/// Largest payload a client accepts: a SAME+RAW payload is 2 MiB + 16 bytes.
+constexpr std::uint32_t kHl2ssMaxPayloadBytes = 16u << 20;
+
+/// The configuration bytes a client sends (10 + 16 n, ahat.md 3.2), also stored in recordings.
+std::vector<std::uint8_t> EncodeHl2ssAhatConfig(const Hl2ssAhatConfig& config);
+/// Decodes them (mode 0 or 1, known profiles); IoError naming `source` and the field offset.
+Hl2ssAhatConfig DecodeHl2ssAhatConfig(std::span<const std::uint8_t> bytes,
+                                      const std::string& source);
+
+/// "hl2ss://HOST[:PORT]" -> host and port (default 3804); nullopt when `uri` has another scheme.
+struct Hl2ssEndpoint {
+  std::string host;
+  int port = 3804;
+};
+std::optional<Hl2ssEndpoint> ParseHl2ssUri(const std::string& uri);
+
+/// Mode 2: downloads and decodes the AHAT calibration (one connection, closed by the server).
+AhatCalibration DownloadHl2ssCalibration(const Hl2ssEndpoint& endpoint, double timeout_s = 10.0,
+                                         std::optional<double> sample_offset_override = {});
+
+/// Mode 0/1 stream: sends the configuration on construction, then decodes packets with the io/
+/// recording decoder (RAW and ZDEPTH+RAW). Empty-AB packets are skipped, as hl2ss clients do.
+class Hl2ssAhatClient : public FrameSource {
+ public:
+  /// IoError when the connection fails; PreconditionError for mode 2 (use the function above).
+  Hl2ssAhatClient(const Hl2ssEndpoint& endpoint, const Hl2ssAhatConfig& config,
+                  double timeout_s = 5.0);
+
+  /// The next frame; nullopt when the server closes between packets. IoError on a truncated or
+  /// oversized packet, a bad payload or a receive timeout.
+  std::optional<AhatFrame> Next() override;
+  std::string description() const override;
+  std::uint64_t packets() const { return packets_; }
+  std::uint64_t skipped_empty() const { return skipped_empty_; }
+
+ private:
+  Hl2ssEndpoint endpoint_;
+  Hl2ssAhatConfig config_;
+  SocketFd socket_;
+  std::vector<std::uint8_t> prefix_;  // a recording header + config: packets decode as files
+  std::uint64_t packets_ = 0;
+  std::uint64_t skipped_empty_ = 0;
+};
+
+/// Decodes one received packet (12-byte header, payload, pose in mode 1) with the recording
+/// decoder; nullopt for an empty-AB packet. Shared by the client and the fuzz target.
+std::optional<AhatFrame> DecodeHl2ssPacket(const Hl2ssAhatConfig& config,
+                                           std::span<const std::uint8_t> packet,
+                                           const std::string& source);
+
+}  // namespace tofnav

@@ -1,0 +1,54 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// RunNavigationSession: source -> Navigator -> IgtlServer, with per-status counts.
+#include "tofnav/stream/navigation_session.hpp"
+
+#include "tofnav/stream/navigation_messages.hpp"
+
+namespace tofnav {
+
+NavigationSessionStats RunNavigationSession(
+    FrameSource& source, Navigator& navigator, IgtlServer* server,
+    const std::function<void(const NavigationState&)>& on_state, const std::atomic<bool>* stop) {
+  NavigationSessionStats stats;
+  while (stop == nullptr || !*stop) {
+    const std::optional<AhatFrame> frame = source.Next();
+    if (!frame) break;
+    const NavigationState state = navigator.Process(*frame);
+    if (server != nullptr) {
+      for (NamedMessage& m : EncodeNavigationFrame(state, navigator.navigation_case().plan)) {
+        server->Publish(std::move(m.bytes));
+      }
+    }
+    if (stats.frames == 0) stats.first_timestamp_s = state.timestamp_s;
+    stats.last_timestamp_s = state.timestamp_s;
+    ++stats.frames;
+    switch (state.status) {
+      case NavigationStatus::kTracking:
+        ++stats.tracking;
+        break;
+      case NavigationStatus::kHolding:
+        ++stats.holding;
+        break;
+      case NavigationStatus::kReferenceLost:
+        ++stats.reference_lost;
+        break;
+      case NavigationStatus::kNoWorldPose:
+        ++stats.no_world_pose;
+        break;
+    }
+    if (on_state) on_state(state);
+  }
+  return stats;
+}
+
+void SetNavigationGreetings(IgtlServer& server, const Navigator& navigator,
+                            const std::optional<TriangleMesh>& skin_in_image,
+                            const std::optional<TriangleMesh>& head_in_tool) {
+  for (NamedMessage& m :
+       EncodeNavigationGreetings(navigator.navigation_case(), navigator.camera().rig_from_ahat(),
+                                 skin_in_image, head_in_tool)) {
+    server.SetGreeting(m.device_name, std::move(m.bytes));
+  }
+}
+
+}  // namespace tofnav

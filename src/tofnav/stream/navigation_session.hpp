@@ -1,0 +1,39 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The phase-3 loop: frames from a source through the Navigator to OpenIGTLink clients.
+#pragma once
+
+#include <atomic>
+#include <cstdint>
+#include <functional>
+
+#include "tofnav/navigation/navigator.hpp"
+#include "tofnav/stream/frame_source.hpp"
+#include "tofnav/stream/igtl_server.hpp"
+
+namespace tofnav {
+
+struct NavigationSessionStats {
+  std::int64_t frames = 0;
+  std::int64_t tracking = 0;        // NavigationStatus::kTracking
+  std::int64_t holding = 0;         // kHolding
+  std::int64_t reference_lost = 0;  // kReferenceLost
+  std::int64_t no_world_pose = 0;   // kNoWorldPose
+  double first_timestamp_s = 0.0;
+  double last_timestamp_s = 0.0;
+};
+
+/// Runs every frame of `source` through `navigator`, publishes EncodeNavigationFrame's messages
+/// on `server` (when given) and hands each state to `on_state` (when given), until the source
+/// ends or `stop` (when given) becomes true. Frames are processed as they come: a slow client
+/// never slows the loop (IgtlServer drops instead).
+NavigationSessionStats RunNavigationSession(
+    FrameSource& source, Navigator& navigator, IgtlServer* server,
+    const std::function<void(const NavigationState&)>& on_state = {},
+    const std::atomic<bool>* stop = nullptr);
+
+/// Sets the greetings of a navigation stream on `server` (EncodeNavigationGreetings).
+void SetNavigationGreetings(IgtlServer& server, const Navigator& navigator,
+                            const std::optional<TriangleMesh>& skin_in_image = {},
+                            const std::optional<TriangleMesh>& head_in_tool = {});
+
+}  // namespace tofnav
