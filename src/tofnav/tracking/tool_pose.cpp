@@ -7,6 +7,7 @@
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/markers/marker_centre.hpp"
+#include "tofnav/tracking/ray_pose.hpp"
 
 namespace tofnav {
 namespace {
@@ -27,6 +28,57 @@ bool Shares(const ToolCandidate& a, const ToolCandidate& b) {
     return s >= 0 &&
            std::find(b.scene_index.begin(), b.scene_index.end(), s) != b.scene_index.end();
   });
+}
+
+// Range sigma of one marker centre [mm]: 1.4826 MAD of the core ranges / sqrt(n), floored.
+double RangeSigmaMm(const DetectedMarker& marker, const PoseRefinementOptions& options) {
+  std::vector<double> ranges;
+  ranges.reserve(marker.core.size());
+  for (const CoreSample& c : marker.core) ranges.push_back(c.range_mm);
+  if (ranges.size() < 2) return std::max(options.range_sigma_floor_mm, 1.0);
+  const auto mid = ranges.begin() + static_cast<std::ptrdiff_t>(ranges.size() / 2);
+  std::nth_element(ranges.begin(), mid, ranges.end());
+  const double median = *mid;
+  for (double& r : ranges) r = std::abs(r - median);
+  std::nth_element(ranges.begin(), mid, ranges.end());
+  const double sigma = 1.4826 * *mid / std::sqrt(static_cast<double>(ranges.size()));
+  return std::max(options.range_sigma_floor_mm, sigma);
+}
+
+// Replaces a Kabsch pose by the anisotropic fit (when every detection has a pixel pitch) of
+// EstimatePoseFromRaysAndRanges and recomputes the residuals (still distances from the measured
+// centres, so FRE keeps its meaning).
+void Refine(std::span<const DetectedMarker> detections, const Points3d& centres,
+            const ToolGeometry& tool, const PoseRefinementOptions& options, ToolPoseResult& r) {
+  Points3d markers;
+  std::vector<RayRangeObservation> observations;
+  for (std::size_t k = 0; k < r.marker_detection.size(); ++k) {
+    const int s = r.marker_detection[k];
+    if (s < 0) continue;
+    const DetectedMarker& d = detections[static_cast<std::size_t>(s)];
+    if (!(d.pixel_pitch_rad > 0.0)) return;  // no pixel scale (synthetic): keep the Kabsch pose
+    const double range_mm = centres[static_cast<std::size_t>(s)].norm();
+    markers.push_back(tool.markers_in_tool[k]);
+    observations.push_back({d.ray_in_ahat, range_mm,
+                            options.lateral_sigma_px * d.pixel_pitch_rad * range_mm,
+                            RangeSigmaMm(d, options)});
+  }
+  const RayPoseResult refined =
+      EstimatePoseFromRaysAndRanges(markers, observations, *r.ahat_from_tool);
+  if (!refined.converged) return;
+  r.ahat_from_tool = refined.ahat_from_tool;
+  r.residuals_mm.clear();
+  double sum2 = 0.0;
+  for (std::size_t k = 0; k < r.marker_detection.size(); ++k) {
+    const int s = r.marker_detection[k];
+    if (s < 0) continue;
+    const double e =
+        (refined.ahat_from_tool * tool.markers_in_tool[k] - centres[static_cast<std::size_t>(s)])
+            .norm();
+    r.residuals_mm.push_back(e);
+    sum2 += e * e;
+  }
+  r.fre_rms_mm = std::sqrt(sum2 / static_cast<double>(r.residuals_mm.size()));
 }
 
 class Arbiter {
@@ -163,8 +215,14 @@ const char* ToString(ToolStatus status) {
   return "unknown";
 }
 
+void PoseRefinementOptions::Check() const {
+  Require(lateral_sigma_px > 0.0, "PoseRefinementOptions::lateral_sigma_px must be > 0");
+  Require(range_sigma_floor_mm > 0.0, "PoseRefinementOptions::range_sigma_floor_mm must be > 0");
+}
+
 void ToolPoseOptions::Check() const {
   tolerance.Check();
+  refinement.Check();
   Require(max_fre_mm > 0.0, "ToolPoseOptions::max_fre_mm must be > 0");
   Require(occlusion_penalty_mm >= 0.0, "ToolPoseOptions::occlusion_penalty_mm must be >= 0");
   Require(prior_weight >= 0.0 && prior_cap_mm >= 0.0,
@@ -188,7 +246,16 @@ std::vector<ToolPoseResult> EstimateToolPoses(
     tool.Check();
     centres.push_back(MarkerCentres(detections, tool.SurfaceToCentreMm()));
   }
-  return Arbiter(centres, tools, predicted_ahat_from_tool, options).Run();
+  std::vector<ToolPoseResult> results =
+      Arbiter(centres, tools, predicted_ahat_from_tool, options).Run();
+  if (options.refinement.enabled) {
+    for (std::size_t t = 0; t < tools.size(); ++t) {
+      if (results[t].ahat_from_tool) {
+        Refine(detections, centres[t], tools[t], options.refinement, results[t]);
+      }
+    }
+  }
+  return results;
 }
 
 ToolPoseResult EstimateToolPose(std::span<const Eigen::Vector3d> centres_in_ahat,

@@ -26,8 +26,23 @@ enum class ToolStatus {
 };
 const char* ToString(ToolStatus status);
 
+/// Refinement of an accepted pose by EstimatePoseFromRaysAndRanges (ray_pose.hpp): each marker's
+/// sub-pixel ray weighs far more than its ToF range, which an isotropic Kabsch fit turns into
+/// tilt. Needs detections (EstimateToolPoses); EstimateToolPose keeps the Kabsch pose.
+struct PoseRefinementOptions {
+  bool enabled = true;
+  /// Lateral sigma of a marker centre [pixels]; times pixel pitch and range gives millimetres.
+  /// Tuned on evd-usecase (0.1-0.3 px with the floor below all within 0.03 deg).
+  double lateral_sigma_px = 0.15;
+  /// Range sigma of a marker: 1.4826 MAD of its core ranges / sqrt(core pixels), at least this
+  /// floor [mm] (AHAT ranges come in 1 mm steps).
+  double range_sigma_floor_mm = 0.6;
+  void Check() const;
+};
+
 struct ToolPoseOptions {
   MatchTolerance tolerance;
+  PoseRefinementOptions refinement;
   double max_fre_mm = 1.0;            // default FRE acceptance (ToolGeometry::max_fre_mm overrides)
   double occlusion_penalty_mm = 0.5;  // score per unseen marker
   /// Temporal prior: score += prior_weight * min(mean marker distance from the predicted pose,
@@ -47,9 +62,10 @@ struct ToolPoseResult {
   std::optional<Rigid3d> ahat_from_tool;  // only for kOk and kPartiallyOccluded
   std::vector<int> marker_detection;      // per tool marker: index into the detections, -1 unseen
   int visible_markers = 0;
-  double fre_rms_mm = 0.0;
-  std::vector<double> residuals_mm;  // per matched marker, in tool marker order
-  int candidate_count = 0;           // candidates the search found for this tool
+  double fre_rms_mm = 0.0;  // RMS of residuals_mm
+  /// |ahat_from_tool * m - centre| per matched marker, in tool marker order [mm]
+  std::vector<double> residuals_mm;
+  int candidate_count = 0;  // candidates the search found for this tool
   /// Score gap to the best distinct alternative (infinity when there is none) [mm].
   double second_best_margin_mm = std::numeric_limits<double>::infinity();
 };
