@@ -7,7 +7,6 @@
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/markers/marker_centre.hpp"
-#include "tofnav/tracking/ray_pose.hpp"
 
 namespace tofnav {
 namespace {
@@ -30,51 +29,21 @@ bool Shares(const ToolCandidate& a, const ToolCandidate& b) {
   });
 }
 
-// Range sigma of one marker centre [mm]: 1.4826 MAD of the core ranges / sqrt(n), floored.
-double RangeSigmaMm(const DetectedMarker& marker, const PoseRefinementOptions& options) {
-  std::vector<double> ranges;
-  ranges.reserve(marker.core.size());
-  for (const CoreSample& c : marker.core) ranges.push_back(c.range_mm);
-  if (ranges.size() < 2) return std::max(options.range_sigma_floor_mm, 1.0);
-  const auto mid = ranges.begin() + static_cast<std::ptrdiff_t>(ranges.size() / 2);
-  std::nth_element(ranges.begin(), mid, ranges.end());
-  const double median = *mid;
-  for (double& r : ranges) r = std::abs(r - median);
-  std::nth_element(ranges.begin(), mid, ranges.end());
-  const double sigma = 1.4826 * *mid / std::sqrt(static_cast<double>(ranges.size()));
-  return std::max(options.range_sigma_floor_mm, sigma);
-}
-
-// Replaces a Kabsch pose by the anisotropic fit (when every detection has a pixel pitch) of
-// EstimatePoseFromRaysAndRanges and recomputes the residuals (still distances from the measured
-// centres, so FRE keeps its meaning).
+// Replaces a Kabsch pose by RefineToolPose's and recomputes the residuals: still distances from
+// the measured centres, so FRE keeps its meaning (and exceeds Kabsch's, its minimum).
 void Refine(std::span<const DetectedMarker> detections, const Points3d& centres,
             const ToolGeometry& tool, const PoseRefinementOptions& options, ToolPoseResult& r) {
-  Points3d markers;
-  std::vector<RayRangeObservation> observations;
-  for (std::size_t k = 0; k < r.marker_detection.size(); ++k) {
-    const int s = r.marker_detection[k];
-    if (s < 0) continue;
-    const DetectedMarker& d = detections[static_cast<std::size_t>(s)];
-    if (!(d.pixel_pitch_rad > 0.0)) return;  // no pixel scale (synthetic): keep the Kabsch pose
-    const double range_mm = centres[static_cast<std::size_t>(s)].norm();
-    markers.push_back(tool.markers_in_tool[k]);
-    observations.push_back({d.ray_in_ahat, range_mm,
-                            options.lateral_sigma_px * d.pixel_pitch_rad * range_mm,
-                            RangeSigmaMm(d, options)});
-  }
-  const RayPoseResult refined =
-      EstimatePoseFromRaysAndRanges(markers, observations, *r.ahat_from_tool);
-  if (!refined.converged) return;
-  r.ahat_from_tool = refined.ahat_from_tool;
+  const std::optional<Rigid3d> refined =
+      RefineToolPose(detections, r.marker_detection, tool, centres, *r.ahat_from_tool, options);
+  if (!refined) return;
+  r.ahat_from_tool = *refined;
   r.residuals_mm.clear();
   double sum2 = 0.0;
   for (std::size_t k = 0; k < r.marker_detection.size(); ++k) {
     const int s = r.marker_detection[k];
     if (s < 0) continue;
     const double e =
-        (refined.ahat_from_tool * tool.markers_in_tool[k] - centres[static_cast<std::size_t>(s)])
-            .norm();
+        (*refined * tool.markers_in_tool[k] - centres[static_cast<std::size_t>(s)]).norm();
     r.residuals_mm.push_back(e);
     sum2 += e * e;
   }
@@ -213,11 +182,6 @@ const char* ToString(ToolStatus status) {
       return "out_of_view";
   }
   return "unknown";
-}
-
-void PoseRefinementOptions::Check() const {
-  Require(lateral_sigma_px > 0.0, "PoseRefinementOptions::lateral_sigma_px must be > 0");
-  Require(range_sigma_floor_mm > 0.0, "PoseRefinementOptions::range_sigma_floor_mm must be > 0");
 }
 
 void ToolPoseOptions::Check() const {

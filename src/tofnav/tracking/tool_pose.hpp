@@ -11,6 +11,7 @@
 #include "tofnav/core/rigid3d.hpp"
 #include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/tracking/correspondence.hpp"
+#include "tofnav/tracking/pose_refinement.hpp"
 #include "tofnav/tracking/tool_geometry.hpp"
 
 namespace tofnav {
@@ -26,22 +27,9 @@ enum class ToolStatus {
 };
 const char* ToString(ToolStatus status);
 
-/// Refinement of an accepted pose by EstimatePoseFromRaysAndRanges (ray_pose.hpp): each marker's
-/// sub-pixel ray weighs far more than its ToF range, which an isotropic Kabsch fit turns into
-/// tilt. Needs detections (EstimateToolPoses); EstimateToolPose keeps the Kabsch pose.
-struct PoseRefinementOptions {
-  bool enabled = true;
-  /// Lateral sigma of a marker centre [pixels]; times pixel pitch and range gives millimetres.
-  /// Tuned on evd-usecase (0.1-0.3 px with the floor below all within 0.03 deg).
-  double lateral_sigma_px = 0.15;
-  /// Range sigma of a marker: 1.4826 MAD of its core ranges / sqrt(core pixels), at least this
-  /// floor [mm] (AHAT ranges come in 1 mm steps).
-  double range_sigma_floor_mm = 0.6;
-  void Check() const;
-};
-
 struct ToolPoseOptions {
   MatchTolerance tolerance;
+  /// After matching, RefineToolPose (needs detections: EstimateToolPoses, not EstimateToolPose).
   PoseRefinementOptions refinement;
   double max_fre_mm = 1.0;            // default FRE acceptance (ToolGeometry::max_fre_mm overrides)
   double occlusion_penalty_mm = 0.5;  // score per unseen marker

@@ -167,7 +167,9 @@ TEST(EstimateToolPoses, RefinementWeighsRaysOverRangesAndKeepsFreMeaningful) {
   ToolPoseOptions kabsch_options;
   kabsch_options.refinement.enabled = false;
   const ToolPoseResult kabsch = EstimateToolPoses(d, tools, {}, kabsch_options)[0];
-  const ToolPoseResult refined = EstimateToolPoses(d, tools)[0];
+  ToolPoseOptions options;  // rays far more precise than the 1 mm ranges (here: exact)
+  options.refinement.lateral_sigma_px = 0.02;
+  const ToolPoseResult refined = EstimateToolPoses(d, tools, {}, options)[0];
   ASSERT_EQ(kabsch.status, ToolStatus::kOk);
   ASSERT_EQ(refined.status, ToolStatus::kOk);
   const double kabsch_error = RotationDistanceRad(*kabsch.ahat_from_tool, truth);
