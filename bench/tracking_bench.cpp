@@ -93,6 +93,61 @@ void BM_DetectMatchPoseTwoTools(benchmark::State& state) {
 }
 BENCHMARK(BM_DetectMatchPoseTwoTools)->Unit(benchmark::kMicrosecond);
 
+// Two flat tape-disc tools like evd-usecase's reference tools (planar: RefineToolPose's disc
+// plane ranges and two refinement passes run), 10 mm discs at 450-520 mm, tilted 0.3-0.5 rad.
+struct DiscFixture {
+  AhatCamera camera{MakeSyntheticAhatCalibration()};
+  AhatFrame frame;
+  std::vector<ToolGeometry> tools;
+};
+
+const DiscFixture& DiscFrame() {
+  static const DiscFixture fixture = [] {
+    DiscFixture f;
+    const Points3d layouts[] = {{{-30, -20, 0.1}, {26, -22, 0.1}, {-17, 21, 0.1}, {31, 16, 0.1}},
+                                {{-33, 12, 0.1}, {-8, -30, 0.1}, {24, -14, 0.1}, {18, 27, 0.1}}};
+    sim::Scene scene;
+    const int wall = scene.AddMaterial(sim::SkinMaterial());
+    const int retro = scene.AddMaterial(sim::RetroReflectiveMaterial());
+    const Eigen::Quaterniond flip(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()));
+    scene.AddObject("wall", sim::PlaneMesh(3000.0, 3000.0), wall, Rigid3d(flip, {0, 0, 700.0}));
+    const Rigid3d poses[] = {
+        Rigid3d(flip * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY()), {-80.0, -20.0, 450.0}),
+        Rigid3d(flip * Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitX()), {90.0, 10.0, 520.0})};
+    for (std::size_t t = 0; t < 2; ++t) {
+      ToolGeometry geometry = Tool(t == 0 ? "left" : "right", layouts[t]);
+      geometry.marker_type = MarkerType::kDisc;
+      geometry.marker_diameter_mm = 10.0;
+      sim::Tool tool{geometry.name, {}, poses[t]};
+      for (const Eigen::Vector3d& p : layouts[t]) {
+        tool.markers.push_back(
+            sim::DiscMarkerOnSurface({p.x(), p.y(), 0.0}, Eigen::Vector3d::UnitZ(), 10.0, retro));
+      }
+      scene.AddTool(tool);
+      f.tools.push_back(geometry);
+    }
+    std::mt19937_64 rng(1);
+    f.frame = sim::RenderAhatFrame(scene, f.camera, Rigid3d::Identity(), {}, rng).frame;
+    return f;
+  }();
+  return fixture;
+}
+
+void BM_DetectMatchPoseTwoDiscTools(benchmark::State& state) {
+  const DiscFixture& f = DiscFrame();
+  const std::vector<DetectedMarker> markers = LocateMarkers(f.frame, f.camera).markers;
+  const std::vector<ToolPoseResult> poses = EstimateToolPoses(markers, f.tools);
+  if (markers.size() != 8 || poses[0].status != ToolStatus::kOk ||
+      poses[1].status != ToolStatus::kOk) {
+    state.SkipWithError("expected 8 markers and both tools posed");
+  }
+  for (auto _ : state) {
+    const MarkerDetectionResult detected = LocateMarkers(f.frame, f.camera);
+    benchmark::DoNotOptimize(EstimateToolPoses(detected.markers, f.tools));
+  }
+}
+BENCHMARK(BM_DetectMatchPoseTwoDiscTools)->Unit(benchmark::kMicrosecond);
+
 // The same through ToolTracker (temporal prior and pose filters included).
 void BM_TrackTwoTools(benchmark::State& state) {
   const Fixture& f = Frame();

@@ -49,8 +49,9 @@ import json, sys
 # Tolerances of issue 4 (mm, fraction), on raw poses of frames in which the tool is fully visible.
 MAX_POSITION_RMS_MM = 0.25
 # The issue asks 0.25 deg; evd-usecase's small tape tools (markers about 35 mm from their centroid, seen 10-55 deg
-# off-axis) give 0.32-0.44 deg (docs/tracking.md section 5): a regression bound until then.
-MAX_ROTATION_RMS_DEG = 0.5
+# off-axis) give 0.28-0.32 deg over 400 frames with the pose refinement (docs/tracking.md section 5). This
+# short run gives 0.23-0.29 deg (0.28-0.33 deg with Kabsch alone): a regression bound until then.
+MAX_ROTATION_RMS_DEG = 0.32
 MIN_FULLY_VISIBLE_FRAMES = 20
 MIN_TRACKED_FRACTION = 0.99
 MAX_JITTER_MM = 0.05

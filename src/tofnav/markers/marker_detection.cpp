@@ -155,8 +155,9 @@ class BlobMeasurer {
       for (int u = r.u_begin; u < r.u_end; ++u) {
         const std::uint16_t range = frame_.range_mm(u, r.v);
         if (frame_.ab(u, r.v) < level || !ValidRange(range) || !camera_.IsValid(u, r.v)) continue;
-        const double angle = AngleRad(camera_.PixelRay(u, r.v).cast<double>(), marker.ray_in_ahat);
-        marker.core.push_back({static_cast<float>(range), static_cast<float>(angle)});
+        const Eigen::Vector3f ray = camera_.PixelRay(u, r.v);
+        const double angle = AngleRad(ray.cast<double>(), marker.ray_in_ahat);
+        marker.core.push_back({static_cast<float>(range), static_cast<float>(angle), ray});
       }
     }
   }

@@ -35,10 +35,12 @@ struct MarkerDetectionOptions {
   void Check() const;    // throws std::invalid_argument naming the bad field
 };
 
-/// One core pixel of a marker: its measured range and the angle of its ray from the marker ray.
+/// One core pixel of a marker: its measured range, the angle of its ray from the marker ray and
+/// the ray itself (zero in hand-made detections).
 struct CoreSample {
   float range_mm = 0.0f;
   float angle_rad = 0.0f;
+  Eigen::Vector3f ray_in_ahat = Eigen::Vector3f::Zero();  // unit pixel ray
 };
 
 /// One marker as measured, before Eq. (2) and before the radius is added: MarkerCentre()

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// PnP on unit rays: Gauss-Newton on the object-space collinearity error.
+// Pose on unit rays by Gauss-Newton: collinearity error, optionally with weighted ranges.
 #include "tofnav/tracking/ray_pose.hpp"
 
 #include <Eigen/Dense>
@@ -10,6 +10,63 @@
 #include "tofnav/core/require.hpp"
 
 namespace tofnav {
+namespace {
+
+// Minimises sum (x_i - c_i)^T W_i (x_i - c_i), x_i = R m_i + t, R <- Exp(w) R, from `initial`:
+// dx/dw = -[R m]x, dx/dt = I. W_i = I - r r^T with c_i = 0 is the collinearity error.
+RayPoseResult WeightedGaussNewton(std::span<const Eigen::Vector3d> markers,
+                                  std::span<const Eigen::Vector3d> targets,
+                                  std::span<const Eigen::Matrix3d> weights, const Rigid3d& initial,
+                                  const RayPoseOptions& options) {
+  const std::size_t n = markers.size();
+  RayPoseResult result;
+  Eigen::Matrix3d rotation = initial.RotationMatrix();
+  Eigen::Vector3d translation = initial.translation;
+  double max_lever_mm = 0.0;
+  for (const Eigen::Vector3d& m : markers) max_lever_mm = std::max(max_lever_mm, m.norm());
+  for (result.iterations = 1; result.iterations <= options.max_iterations; ++result.iterations) {
+    Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
+    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
+    for (std::size_t i = 0; i < n; ++i) {
+      const Eigen::Vector3d rm = rotation * markers[i];
+      Eigen::Matrix<double, 3, 6> j;
+      j.leftCols<3>() << 0, rm.z(), -rm.y(), -rm.z(), 0, rm.x(), rm.y(), -rm.x(), 0;
+      j.rightCols<3>().setIdentity();
+      const Eigen::Matrix<double, 6, 3> jw = j.transpose() * weights[i];
+      h += jw * j;
+      g += jw * (rm + translation - targets[i]);
+    }
+    const Eigen::Matrix<double, 6, 1> step = -h.ldlt().solve(g);
+    if (!step.allFinite()) break;
+    const Eigen::Vector3d w = step.head<3>();
+    if (w.norm() > 0.0)
+      rotation = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * rotation;
+    translation += step.tail<3>();
+    if (step.tail<3>().norm() + w.norm() * max_lever_mm < options.tolerance_mm) {
+      result.converged = true;
+      break;
+    }
+  }
+  result.ahat_from_tool = Rigid3d(Eigen::Quaterniond(rotation), translation);
+  return result;
+}
+
+// Sets rms_ray_distance_mm: RMS of |(I - r r^T) x_i| at the result's pose.
+void SetRayDistance(std::span<const Eigen::Vector3d> markers,
+                    std::span<const Eigen::Matrix3d> off_ray, RayPoseResult& result) {
+  double sum2 = 0.0;
+  for (std::size_t i = 0; i < markers.size(); ++i) {
+    sum2 += (off_ray[i] * (result.ahat_from_tool * markers[i])).squaredNorm();
+  }
+  result.rms_ray_distance_mm = std::sqrt(sum2 / static_cast<double>(markers.size()));
+}
+
+Eigen::Matrix3d OffRay(const Eigen::Vector3d& ray) {
+  const Eigen::Vector3d r = ray.normalized();
+  return Eigen::Matrix3d::Identity() - r * r.transpose();
+}
+
+}  // namespace
 
 void RayPoseOptions::Check() const {
   Require(max_iterations >= 1, "RayPoseOptions::max_iterations must be >= 1");
@@ -24,48 +81,37 @@ RayPoseResult EstimatePoseFromRays(std::span<const Eigen::Vector3d> markers_in_t
   const std::size_t n = markers_in_tool.size();
   Require(n >= 3 && rays_in_ahat.size() == n, "EstimatePoseFromRays: needs >= 3 marker-ray pairs");
   std::vector<Eigen::Matrix3d> off_ray(n);  // I - r r^T: the part of a point off its ray
+  for (std::size_t i = 0; i < n; ++i) off_ray[i] = OffRay(rays_in_ahat[i]);
+  const std::vector<Eigen::Vector3d> origin(n, Eigen::Vector3d::Zero());
+  RayPoseResult result =
+      WeightedGaussNewton(markers_in_tool, origin, off_ray, initial_ahat_from_tool, options);
+  SetRayDistance(markers_in_tool, off_ray, result);
+  return result;
+}
+
+RayPoseResult EstimatePoseFromRaysAndRanges(std::span<const Eigen::Vector3d> markers_in_tool,
+                                            std::span<const RayRangeObservation> observations,
+                                            const Rigid3d& initial_ahat_from_tool,
+                                            const RayPoseOptions& options) {
+  options.Check();
+  const std::size_t n = markers_in_tool.size();
+  Require(n >= 3 && observations.size() == n,
+          "EstimatePoseFromRaysAndRanges: needs >= 3 marker-observation pairs");
+  std::vector<Eigen::Matrix3d> off_ray(n), weight(n);
+  std::vector<Eigen::Vector3d> centre(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const Eigen::Vector3d r = rays_in_ahat[i].normalized();
-    off_ray[i] = Eigen::Matrix3d::Identity() - r * r.transpose();
+    const RayRangeObservation& o = observations[i];
+    Require(o.lateral_sigma_mm > 0.0 && o.range_sigma_mm > 0.0,
+            "EstimatePoseFromRaysAndRanges: sigmas must be > 0");
+    const Eigen::Vector3d r = o.ray_in_ahat.normalized();
+    off_ray[i] = OffRay(r);
+    centre[i] = r * o.range_mm;
+    weight[i] = off_ray[i] / (o.lateral_sigma_mm * o.lateral_sigma_mm) +
+                r * r.transpose() / (o.range_sigma_mm * o.range_sigma_mm);
   }
-  RayPoseResult result;
-  Eigen::Matrix3d rotation = initial_ahat_from_tool.RotationMatrix();
-  Eigen::Vector3d translation = initial_ahat_from_tool.translation;
-  // Gauss-Newton on e_i = (I - r_i r_i^T)(R m_i + t), R <- Exp(w) R: de/dw = -(I - r r^T)[R m]x.
-  for (result.iterations = 1; result.iterations <= options.max_iterations; ++result.iterations) {
-    Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
-    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d rm = rotation * markers_in_tool[i];
-      Eigen::Matrix<double, 3, 6> j;
-      Eigen::Matrix3d skew;
-      skew << 0, -rm.z(), rm.y(), rm.z(), 0, -rm.x(), -rm.y(), rm.x(), 0;
-      j.leftCols<3>() = -off_ray[i] * skew;
-      j.rightCols<3>() = off_ray[i];
-      const Eigen::Vector3d e = off_ray[i] * (rm + translation);
-      h += j.transpose() * j;
-      g += j.transpose() * e;
-    }
-    const Eigen::Matrix<double, 6, 1> step = -h.ldlt().solve(g);
-    if (!step.allFinite()) break;
-    const Eigen::Vector3d w = step.head<3>();
-    if (w.norm() > 0.0)
-      rotation = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * rotation;
-    translation += step.tail<3>();
-    double moved = step.tail<3>().norm();
-    for (std::size_t i = 0; i < n; ++i)
-      moved = std::max(moved, step.tail<3>().norm() + w.norm() * markers_in_tool[i].norm());
-    if (moved < options.tolerance_mm) {
-      result.converged = true;
-      break;
-    }
-  }
-  result.ahat_from_tool = Rigid3d(Eigen::Quaterniond(rotation), translation);
-  double sum2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    sum2 += (off_ray[i] * (rotation * markers_in_tool[i] + translation)).squaredNorm();
-  }
-  result.rms_ray_distance_mm = std::sqrt(sum2 / static_cast<double>(n));
+  RayPoseResult result =
+      WeightedGaussNewton(markers_in_tool, centre, weight, initial_ahat_from_tool, options);
+  SetRayDistance(markers_in_tool, off_ray, result);
   return result;
 }
 

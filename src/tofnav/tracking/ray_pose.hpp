@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Pose of a known marker structure from marker rays alone (PnP), free of any range bias.
+// Marker-structure poses on rays: rays alone (PnP), or rays plus ranges weighted anisotropically.
 #pragma once
 
 #include <Eigen/Core>
@@ -33,5 +33,24 @@ RayPoseResult EstimatePoseFromRays(std::span<const Eigen::Vector3d> markers_in_t
                                    std::span<const Eigen::Vector3d> rays_in_ahat,
                                    const Rigid3d& initial_ahat_from_tool,
                                    const RayPoseOptions& options = {});
+
+/// One marker seen along a ray at a range, with its lateral and along-ray standard deviations.
+struct RayRangeObservation {
+  Eigen::Vector3d ray_in_ahat = Eigen::Vector3d::UnitZ();  // unit ray through the centre
+  double range_mm = 0.0;                                   // centre range along the ray
+  double lateral_sigma_mm = 1.0;                           // > 0, per axis across the ray
+  double range_sigma_mm = 1.0;                             // > 0, along the ray
+};
+
+/// Maximum-likelihood pose under anisotropic Gaussian marker errors: minimises
+/// sum |(I - r r^T)(R m + t)|^2 / s_lat^2 + (r . (R m + t) - d)^2 / s_range^2 by Gauss-Newton
+/// from `initial_ahat_from_tool`. A ToF marker's range is far noisier than its sub-pixel ray, and
+/// an isotropic (Kabsch) fit turns that range noise into tilt. rms_ray_distance_mm is the RMS
+/// lateral residual. Throws std::invalid_argument on fewer than 3 pairs, a size mismatch or a
+/// sigma <= 0.
+RayPoseResult EstimatePoseFromRaysAndRanges(std::span<const Eigen::Vector3d> markers_in_tool,
+                                            std::span<const RayRangeObservation> observations,
+                                            const Rigid3d& initial_ahat_from_tool,
+                                            const RayPoseOptions& options = {});
 
 }  // namespace tofnav

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "matchers.hpp"
+#include "tofnav/tracking/rigid_fit.hpp"
 #include "tracking_test_tools.hpp"
 
 namespace tofnav {
@@ -27,6 +28,34 @@ TEST(EstimatePoseFromRays, RecoversThePoseFromRaysAloneDespiteBiasedStartingCent
   EXPECT_THAT(r.ahat_from_tool, RigidNear(truth, kRotTolRad, kTransTolMm));
   EXPECT_LT(r.rms_ray_distance_mm, 1e-6);
   EXPECT_THROW(EstimatePoseFromRays(Points3d(2), Points3d(2), start), std::invalid_argument);
+}
+
+TEST(EstimatePoseFromRaysAndRanges, TrustsRaysOverNoisyRangesAndMatchesExactData) {
+  constexpr double kRotTolRad = 1e-6, kTransTolMm = 1e-4;  // converged iteration, exact data
+  // Small flat tool (35 mm lever arm) at 500 mm: the Kabsch tilt error of this range noise.
+  constexpr double kKabschTiltRad = 0.01;
+  const Points3d markers = {{-35, 0, 0}, {35, 0, 0}, {0, -35, 0}, {0, 35, 0}};
+  const Rigid3d truth = testing::FacingToolPose({10.0, 5.0, 500.0}, 0.3, 0.2);
+  const double range_noise_mm[] = {1.0, -1.0, -1.0, 1.0};  // tilts an isotropic fit
+  std::vector<RayRangeObservation> exact, noisy;
+  Points3d noisy_centres;
+  for (std::size_t i = 0; i < markers.size(); ++i) {
+    const Eigen::Vector3d c = truth * markers[i];
+    exact.push_back({c.normalized(), c.norm(), 0.01, 1.0});
+    noisy.push_back({c.normalized(), c.norm() + range_noise_mm[i], 0.01, 1.0});
+    noisy_centres.push_back(noisy.back().ray_in_ahat * noisy.back().range_mm);
+  }
+  const Rigid3d start = testing::FacingToolPose({12.0, 4.0, 503.0}, 0.25, 0.25);
+  const RayPoseResult r = EstimatePoseFromRaysAndRanges(markers, exact, start);
+  ASSERT_TRUE(r.converged);
+  EXPECT_THAT(r.ahat_from_tool, RigidNear(truth, kRotTolRad, kTransTolMm));
+  const Rigid3d kabsch = FitRigid(markers, noisy_centres).target_from_source;
+  const RayPoseResult n = EstimatePoseFromRaysAndRanges(markers, noisy, kabsch);
+  ASSERT_TRUE(n.converged);
+  EXPECT_GT(RotationDistanceRad(kabsch, truth), kKabschTiltRad);
+  EXPECT_LT(RotationDistanceRad(n.ahat_from_tool, truth), 0.5 * RotationDistanceRad(kabsch, truth));
+  noisy[0].range_sigma_mm = 0.0;
+  EXPECT_THROW(EstimatePoseFromRaysAndRanges(markers, noisy, start), std::invalid_argument);
 }
 
 }  // namespace

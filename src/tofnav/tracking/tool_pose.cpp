@@ -29,6 +29,27 @@ bool Shares(const ToolCandidate& a, const ToolCandidate& b) {
   });
 }
 
+// Replaces a Kabsch pose by RefineToolPose's and recomputes the residuals: still distances from
+// the measured centres, so FRE keeps its meaning (and exceeds Kabsch's, its minimum).
+void Refine(std::span<const DetectedMarker> detections, const Points3d& centres,
+            const ToolGeometry& tool, const PoseRefinementOptions& options, ToolPoseResult& r) {
+  const std::optional<Rigid3d> refined =
+      RefineToolPose(detections, r.marker_detection, tool, centres, *r.ahat_from_tool, options);
+  if (!refined) return;
+  r.ahat_from_tool = *refined;
+  r.residuals_mm.clear();
+  double sum2 = 0.0;
+  for (std::size_t k = 0; k < r.marker_detection.size(); ++k) {
+    const int s = r.marker_detection[k];
+    if (s < 0) continue;
+    const double e =
+        (*refined * tool.markers_in_tool[k] - centres[static_cast<std::size_t>(s)]).norm();
+    r.residuals_mm.push_back(e);
+    sum2 += e * e;
+  }
+  r.fre_rms_mm = std::sqrt(sum2 / static_cast<double>(r.residuals_mm.size()));
+}
+
 class Arbiter {
  public:
   Arbiter(std::span<const Points3d> centres, std::span<const ToolGeometry> tools,
@@ -165,6 +186,7 @@ const char* ToString(ToolStatus status) {
 
 void ToolPoseOptions::Check() const {
   tolerance.Check();
+  refinement.Check();
   Require(max_fre_mm > 0.0, "ToolPoseOptions::max_fre_mm must be > 0");
   Require(occlusion_penalty_mm >= 0.0, "ToolPoseOptions::occlusion_penalty_mm must be >= 0");
   Require(prior_weight >= 0.0 && prior_cap_mm >= 0.0,
@@ -188,7 +210,16 @@ std::vector<ToolPoseResult> EstimateToolPoses(
     tool.Check();
     centres.push_back(MarkerCentres(detections, tool.SurfaceToCentreMm()));
   }
-  return Arbiter(centres, tools, predicted_ahat_from_tool, options).Run();
+  std::vector<ToolPoseResult> results =
+      Arbiter(centres, tools, predicted_ahat_from_tool, options).Run();
+  if (options.refinement.enabled) {
+    for (std::size_t t = 0; t < tools.size(); ++t) {
+      if (results[t].ahat_from_tool) {
+        Refine(detections, centres[t], tools[t], options.refinement, results[t]);
+      }
+    }
+  }
+  return results;
 }
 
 ToolPoseResult EstimateToolPose(std::span<const Eigen::Vector3d> centres_in_ahat,

@@ -11,6 +11,7 @@
 #include "tofnav/core/rigid3d.hpp"
 #include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/tracking/correspondence.hpp"
+#include "tofnav/tracking/pose_refinement.hpp"
 #include "tofnav/tracking/tool_geometry.hpp"
 
 namespace tofnav {
@@ -28,6 +29,8 @@ const char* ToString(ToolStatus status);
 
 struct ToolPoseOptions {
   MatchTolerance tolerance;
+  /// After matching, RefineToolPose (needs detections: EstimateToolPoses, not EstimateToolPose).
+  PoseRefinementOptions refinement;
   double max_fre_mm = 1.0;            // default FRE acceptance (ToolGeometry::max_fre_mm overrides)
   double occlusion_penalty_mm = 0.5;  // score per unseen marker
   /// Temporal prior: score += prior_weight * min(mean marker distance from the predicted pose,
@@ -47,9 +50,10 @@ struct ToolPoseResult {
   std::optional<Rigid3d> ahat_from_tool;  // only for kOk and kPartiallyOccluded
   std::vector<int> marker_detection;      // per tool marker: index into the detections, -1 unseen
   int visible_markers = 0;
-  double fre_rms_mm = 0.0;
-  std::vector<double> residuals_mm;  // per matched marker, in tool marker order
-  int candidate_count = 0;           // candidates the search found for this tool
+  double fre_rms_mm = 0.0;  // RMS of residuals_mm
+  /// |ahat_from_tool * m - centre| per matched marker, in tool marker order [mm]
+  std::vector<double> residuals_mm;
+  int candidate_count = 0;  // candidates the search found for this tool
   /// Score gap to the best distinct alternative (infinity when there is none) [mm].
   double second_best_margin_mm = std::numeric_limits<double>::infinity();
 };

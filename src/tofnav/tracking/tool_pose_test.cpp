@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <random>
 
 #include "matchers.hpp"
@@ -143,6 +144,45 @@ TEST(EstimateToolPose, WorksOnCentresDirectly) {
   ASSERT_EQ(r.status, ToolStatus::kOk);
   EXPECT_THAT(*r.ahat_from_tool, RigidNear(truth, 1e-9, 1e-9));
   EXPECT_STREQ(ToString(r.status), "ok");
+}
+
+TEST(EstimateToolPoses, RefinementWeighsRaysOverRangesAndKeepsFreMeaningful) {
+  // A small flat tool tilted 0.5 rad at 500 mm whose marker ranges alone carry +-1 mm errors.
+  constexpr double kPixelPitchRad = 1.0 / 254.0;  // AHAT focal length
+  constexpr double kFreTolMm = 1e-9;              // FRE is the RMS of the residuals
+  ToolGeometry tool;
+  tool.name = "flat";
+  tool.marker_type = MarkerType::kDisc;
+  tool.marker_diameter_mm = 10.0;
+  tool.markers_in_tool = {{-35, -5, 0}, {30, 0, 0}, {5, -30, 0}, {-5, 42, 0}};
+  const ToolGeometry tools[] = {tool};
+  const Rigid3d truth = testing::FacingToolPose({20.0, -10.0, 500.0}, 0.5, 0.3);
+  const double range_error_mm[] = {1.0, -1.0, -1.0, 1.0};
+  std::vector<DetectedMarker> d;
+  for (std::size_t i = 0; i < tool.markers_in_tool.size(); ++i) {
+    const Eigen::Vector3d c = truth * tool.markers_in_tool[i];
+    d.push_back(testing::DetectionAt(c.normalized() * (c.norm() + range_error_mm[i]), 0.0));
+    d.back().pixel_pitch_rad = kPixelPitchRad;
+  }
+  ToolPoseOptions kabsch_options;
+  kabsch_options.refinement.enabled = false;
+  const ToolPoseResult kabsch = EstimateToolPoses(d, tools, {}, kabsch_options)[0];
+  ToolPoseOptions options;  // rays far more precise than the 1 mm ranges (here: exact)
+  options.refinement.lateral_sigma_px = 0.02;
+  const ToolPoseResult refined = EstimateToolPoses(d, tools, {}, options)[0];
+  ASSERT_EQ(kabsch.status, ToolStatus::kOk);
+  ASSERT_EQ(refined.status, ToolStatus::kOk);
+  const double kabsch_error = RotationDistanceRad(*kabsch.ahat_from_tool, truth);
+  const double refined_error = RotationDistanceRad(*refined.ahat_from_tool, truth);
+  EXPECT_LT(refined_error, 0.7 * kabsch_error);
+  double sum2 = 0.0;
+  for (const double e : refined.residuals_mm) sum2 += e * e;
+  ASSERT_EQ(refined.residuals_mm.size(), 4u);
+  EXPECT_NEAR(refined.fre_rms_mm, std::sqrt(sum2 / 4.0), kFreTolMm);
+  EXPECT_GE(refined.fre_rms_mm, kabsch.fre_rms_mm);  // Kabsch minimises the isotropic FRE
+  ToolPoseOptions bad;
+  bad.refinement.lateral_sigma_px = 0.0;
+  EXPECT_THROW(EstimateToolPoses(d, tools, {}, bad), std::invalid_argument);
 }
 
 }  // namespace
