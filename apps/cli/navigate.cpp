@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
+#include "tofnav/io/marker_range_json.hpp"
 #include "tofnav/io/markups_read.hpp"
 #include "tofnav/io/mesh_io.hpp"
 #include "tofnav/io/tool_json.hpp"
@@ -85,6 +86,7 @@ int RunNavigate(int argc, char** argv) {
       "to 3D Slicer over OpenIGTLink"};
   std::string input;
   std::filesystem::path calibration, tool_path, registration, plan_path, instrument_path, out;
+  std::filesystem::path marker_error_path;
   std::filesystem::path skin_path, surface_path;
   std::string trajectory, bind = "127.0.0.1", profile = "raw";
   int igtl_port = 18944;
@@ -100,6 +102,8 @@ int RunNavigate(int argc, char** argv) {
   app.add_option("--registration", registration, "tool_from_image (.json, .tfm, .txt)")->required();
   app.add_option("--plan", plan_path, "planned trajectories (.mrk.json, .fcsv)")->required();
   app.add_option("--instrument", instrument_path, "tracked instrument JSON with tip_mm");
+  app.add_option("--marker-error", marker_error_path,
+                 "f_rf curve (tofnav fit-marker-error) applied to marker ranges (Eq. 2)");
   app.add_option("--trajectory", trajectory, "trajectory the instrument is guided along (name)");
   app.add_option("--skin", skin_path, "CT skin mesh in image (sent as POLYDATA SkinRas)");
   app.add_option("--surface", surface_path, "reconstructed head in tool (POLYDATA HeadSurface)");
@@ -122,6 +126,7 @@ int RunNavigate(int argc, char** argv) {
   c.tool_from_image = ReadToolFromImage(registration);
   c.plan = ReadTrajectories(plan_path);
   if (!instrument_path.empty()) c.instrument = ReadToolJson(instrument_path);
+  if (!marker_error_path.empty()) c.marker_range = ReadMarkerRangeJson(marker_error_path).model;
 
   std::unique_ptr<FrameSource> source;
   std::optional<AhatCalibration> camera_calibration;
