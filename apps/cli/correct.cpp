@@ -11,9 +11,9 @@
 #include "tofnav/correction/correct_range.hpp"
 #include "tofnav/io/ahat_recording.hpp"
 #include "tofnav/io/depth_model_json.hpp"
-#include "tofnav/io/marker_range_json.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/hl2ss_recording.hpp"
+#include "tofnav/io/marker_range_json.hpp"
 #include "tofnav/io/mesh_io.hpp"
 
 namespace tofnav {

@@ -218,9 +218,9 @@ int RunEvaluateDepth(int argc, char** argv) {
 }
 
 namespace {
-[[maybe_unused]] const bool kRegistered = RegisterEvaluator(
-    {"depth", "depth error per object before/after correction vs simulator truth",
-     RunEvaluateDepth});
+[[maybe_unused]] const bool kRegistered =
+    RegisterEvaluator({"depth", "depth error per object before/after correction vs simulator truth",
+                       RunEvaluateDepth});
 }  // namespace
 
 }  // namespace tofnav

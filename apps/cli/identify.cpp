@@ -15,8 +15,8 @@
 #include "tofnav/fusion/mesh_components.hpp"
 #include "tofnav/io/ahat_recording.hpp"
 #include "tofnav/io/depth_model_json.hpp"
-#include "tofnav/io/marker_range_json.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
+#include "tofnav/io/marker_range_json.hpp"
 #include "tofnav/io/mesh_io.hpp"
 #include "tofnav/io/volume_io.hpp"
 

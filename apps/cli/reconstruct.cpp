@@ -121,7 +121,8 @@ int RunReconstruct(int argc, char** argv) {
       return CorrectRangeImage(frame, cam, model, correct);
     };
   }
-  if (!marker_error_path.empty()) options.marker_error = ReadMarkerRangeJson(marker_error_path).model;
+  if (!marker_error_path.empty())
+    options.marker_error = ReadMarkerRangeJson(marker_error_path).model;
   const ToolGeometry tool = ReadToolJson(tool_path);
   ProgressBar progress("reconstruct", quiet || json);
   const ReconstructResult r = ReconstructSurface(
