@@ -10,6 +10,7 @@
 
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/json_bytes.hpp"
 
 namespace tofnav {
 namespace {
@@ -20,16 +21,6 @@ using Path = std::filesystem::path;
 constexpr const char* kModelFormat = "tofnav-depth-model";
 constexpr const char* kRangeFormat = "tofnav-marker-range";
 constexpr std::size_t kMaxKnots = 100000;
-
-Json Parse(std::string_view text, const Path& path) {
-  try {
-    return Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
-    throw IoError(path, e.byte > 0 ? e.byte - 1 : 0, std::string("malformed JSON: ") + e.what());
-  } catch (const Json::exception& e) {
-    throw IoError(path, std::nullopt, std::string("malformed JSON: ") + e.what());
-  }
-}
 
 const Json& Member(const Json& object, const char* key, const Path& path, const std::string& at) {
   if (!object.is_object()) throw IoError(path, std::nullopt, at + " must be an object");
@@ -183,7 +174,7 @@ DepthModelFitReport ReportFromJson(const Json& json) {
 }  // namespace
 
 DepthModelFile DecodeDepthModelJson(std::string_view text, const Path& path) {
-  const Json json = Parse(text, path);
+  const Json json = ParseJsonText<Json>(text, path);
   CheckHeader(json, kModelFormat, path);
   const Json& m = Member(json, "model", path, "$");
   DepthModelFile file;

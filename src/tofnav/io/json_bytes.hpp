@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "tofnav/io/io_error.hpp"
 
@@ -23,6 +24,13 @@ Json ParseJsonBytes(std::span<const std::uint8_t> bytes, const std::filesystem::
   } catch (const typename Json::exception& e) {  // e.g. a number beyond the double range
     throw IoError(source, std::nullopt, std::string("malformed JSON: ") + e.what());
   }
+}
+
+/// The same over text.
+template <typename Json>
+Json ParseJsonText(std::string_view text, const std::filesystem::path& source) {
+  return ParseJsonBytes<Json>(
+      std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), source);
 }
 
 }  // namespace tofnav

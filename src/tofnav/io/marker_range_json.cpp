@@ -9,6 +9,7 @@
 
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/json_bytes.hpp"
 
 namespace tofnav {
 namespace {
@@ -70,14 +71,7 @@ std::string EncodeMarkerRangeJson(const MarkerRangeFile& file) {
 }
 
 MarkerRangeFile DecodeMarkerRangeJson(std::string_view text, const std::filesystem::path& path) {
-  Json json;
-  try {
-    json = Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
-    throw IoError(path, e.byte > 0 ? e.byte - 1 : 0, std::string("malformed JSON: ") + e.what());
-  } catch (const Json::exception& e) {
-    throw IoError(path, std::nullopt, std::string("malformed JSON: ") + e.what());
-  }
+  const Json json = ParseJsonText<Json>(text, path);
   if (!json.is_object() || json.value("format", Json()) != kFormat) {
     throw IoError(path, std::nullopt, std::string("expected {\"format\": \"") + kFormat + "\"}");
   }

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/json_bytes.hpp"
 #include "tofnav/io/tool_poses_internal.hpp"
 #include "tofnav/io/tool_poses_io.hpp"
 
@@ -91,14 +92,7 @@ namespace internal {
 
 std::vector<ToolPoseRecord> DecodeToolPosesJson(std::string_view text,
                                                 const std::filesystem::path& path) {
-  Json json;
-  try {
-    json = Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
-    throw IoError(path, e.byte > 0 ? e.byte - 1 : 0, std::string("malformed JSON: ") + e.what());
-  } catch (const Json::exception& e) {
-    throw IoError(path, std::nullopt, std::string("malformed JSON: ") + e.what());
-  }
+  const Json json = ParseJsonText<Json>(text, path);
   if (!json.is_object() || json.value("format", Json()) != "tofnav-tool-poses") {
     throw IoError(path, std::nullopt, "expected {\"format\": \"tofnav-tool-poses\", ...}");
   }
