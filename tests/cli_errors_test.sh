@@ -71,5 +71,7 @@ expect_failure "bad port" navigate hl2ss://host:x --tool "$scratch/ref.json" \
   --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json"
 expect_failure "HL2SSV23" navigate "$scratch/random.bin" --tool "$scratch/ref.json" \
   --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json" --no-igtl
+printf 'timestamp_s,status\n1.0,tracking\n' >"$scratch/nav.csv"
+expect_failure "not a tofnav navigate CSV" evaluate guidance "$scratch/nav.csv" --truth "$scratch"
 [ $failures -eq 0 ] && echo "all CLI error checks passed"
 exit $failures
