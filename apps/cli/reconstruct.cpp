@@ -94,6 +94,9 @@ int RunReconstruct(int argc, char** argv) {
   app.add_option("--every", options.frame_step, "fuse every n-th frame")->capture_default_str();
   app.add_option("--max-frames", max_frames, "consider at most N frames (after --every)");
   app.add_flag("--all-components", all_components, "keep every connected component");
+  bool all_markers = false;
+  app.add_flag("--all-markers", all_markers,
+               "fuse only frames in which every marker of the tool was matched (status ok)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
   CLI11_PARSE(app, argc, argv);
@@ -101,6 +104,7 @@ int RunReconstruct(int argc, char** argv) {
   if (!roi.empty()) options.tsdf.roi_in_tool = RoiFromList(roi);
   options.max_frames = max_frames;
   options.largest_component = !all_components;
+  options.accept_partially_occluded = !all_markers;
   const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
   std::optional<AhatCalibration> calibration;
   if (!calibration_dir.empty()) {

@@ -191,7 +191,10 @@ ReconstructResult ReconstructSurface(
       t = Clock::now();
       const TrackedTool tracked = tracker.Track(p.markers, p.frame.timestamp_s()).tools[0];
       result.track_s += Seconds(t);
-      if (tracked.status() != ToolStatus::kOk || !tracked.measurement.ahat_from_tool) {
+      const bool posed =
+          tracked.status() == ToolStatus::kOk ||
+          (options.accept_partially_occluded && tracked.status() == ToolStatus::kPartiallyOccluded);
+      if (!posed || !tracked.measurement.ahat_from_tool) {
         ++result.frames_skipped;
         ++result.skipped_by_status[ToString(tracked.status())];
         if (progress) progress(done, frames.size());

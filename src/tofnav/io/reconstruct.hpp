@@ -57,7 +57,10 @@ struct ReconstructOptions {
   std::size_t frame_step = 1;             // fuse every n-th frame
   std::optional<std::size_t> max_frames;  // frames considered (after the step)
   bool largest_component = true;          // keep the largest connected component only
-  void Check() const;                     // throws PreconditionError naming the bad field
+  /// Fuse frames whose tool was matched with min_visible or more but not all markers (status
+  /// partially_occluded): a tool made of several rigidly joined ones is rarely seen whole.
+  bool accept_partially_occluded = true;
+  void Check() const;  // throws PreconditionError naming the bad field
 };
 
 struct ReconstructResult {
@@ -66,7 +69,7 @@ struct ReconstructResult {
   bool roi_automatic = false;
   std::size_t frames_considered = 0;
   std::size_t frames_fused = 0;
-  std::size_t frames_skipped = 0;                        // tool status not ok
+  std::size_t frames_skipped = 0;  // no pose, or partially occluded when not accepted
   std::map<std::string, std::size_t> skipped_by_status;  // ToString(ToolStatus) -> frames
   std::size_t blocks = 0;                                // allocated 8^3 blocks
   std::size_t mesh_vertices_before_component = 0;        // marching cubes output
