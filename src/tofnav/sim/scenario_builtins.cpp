@@ -210,6 +210,20 @@ Scenario DepthAccuracy(const PatientHead* /*no patient*/) {
   return s;
 }
 
+// The rotation platform of Sec. IV-B: top centre at the world origin, +y up, sweeping +-45 deg
+// about y at 8 deg/s; an acrylic top of width x depth [mm]. Returns the mount.
+int AddTurntable(Scenario& s, int material, double width_mm, double depth_mm) {
+  Motion turning;
+  turning.kind = MotionKind::kRotation;
+  turning.start = Rigid3d::Identity();
+  turning.rotation = {Eigen::Vector3d::UnitY(), Eigen::Vector3d::Zero(), 8.0 * kDegToRad,
+                      -45.0 * kDegToRad, 90.0 * kDegToRad};
+  const int platform = s.AddMount("turntable", turning);
+  s.AddObject("platform", BoxMesh({width_mm, 20.0, depth_mm}), material, platform,
+              Translation({0.0, -10.0, 0.0}));
+  return platform;
+}
+
 Scenario Reconstruction(const PatientHead* given_head) {
   Scenario s;
   s.name = "reconstruction";
@@ -219,14 +233,7 @@ Scenario Reconstruction(const PatientHead* given_head) {
   const int retro = s.scene.AddMaterial(RetroReflectiveMaterial(RetroCurve::kLinear));
   const int nylon = s.scene.AddMaterial(NylonMaterial());
   const int acrylic = s.scene.AddMaterial(Named(DiffuseMaterial(0.45), "acrylic"));
-  Motion turning;
-  turning.kind = MotionKind::kRotation;
-  turning.start = Rigid3d::Identity();  // platform top centre at the world origin, +y up
-  turning.rotation = {Eigen::Vector3d::UnitY(), Eigen::Vector3d::Zero(), 8.0 * kDegToRad,
-                      -45.0 * kDegToRad, 90.0 * kDegToRad};
-  const int platform = s.AddMount("turntable", turning);
-  s.AddObject("platform", BoxMesh({320.0, 20.0, 320.0}), acrylic, platform,
-              Translation({0.0, -10.0, 0.0}));
+  const int platform = AddTurntable(s, acrylic, 320.0, 320.0);
   const PatientHead head = HeadOrPhantom(given_head);
   const double neck_mm = HeadPhantomOptions{}.neck_cut_fraction * head.anatomy.semi_axes_mm.z();
   const Eigen::Vector3d head_centre(0.0, neck_mm + 0.5, 0.0);
@@ -254,14 +261,7 @@ Scenario ReconstructionShapes(const char* name, Material material) {
   const int retro = s.scene.AddMaterial(RetroReflectiveMaterial(RetroCurve::kLinear));
   const int shape_material = s.scene.AddMaterial(std::move(material));
   const int acrylic = s.scene.AddMaterial(Named(DiffuseMaterial(0.45), "acrylic"));
-  Motion turning;
-  turning.kind = MotionKind::kRotation;
-  turning.start = Rigid3d::Identity();
-  turning.rotation = {Eigen::Vector3d::UnitY(), Eigen::Vector3d::Zero(), 8.0 * kDegToRad,
-                      -45.0 * kDegToRad, 90.0 * kDegToRad};
-  const int platform = s.AddMount("turntable", turning);
-  s.AddObject("platform", BoxMesh({440.0, 20.0, 400.0}), acrylic, platform,
-              Translation({0.0, -10.0, 0.0}));
+  const int platform = AddTurntable(s, acrylic, 440.0, 400.0);
   const std::pair<const char*, TestShape> shapes[] = {
       {"triangular_pyramid", TestShape::kTriangularPyramid},
       {"frustum_pyramid", TestShape::kFrustumPyramid},
