@@ -1,13 +1,14 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Paired-point registration (Horn / Umeyama) and the Fitzpatrick FRE/TRE relations.
+// Paired-point registration (core FitRigid) and the Fitzpatrick FRE/TRE relations.
 #include "tofnav/registration/paired_points.hpp"
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <cmath>
+#include <utility>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rigid_fit.hpp"
 
 namespace tofnav {
 namespace {
@@ -33,20 +34,9 @@ PairedPointResult RegisterPairedPoints(std::span<const Eigen::Vector3d> source,
   const Eigen::Vector3d spread = Eigen::JacobiSVD<Eigen::Matrix3Xd>(s_centred).singularValues();
   Require(spread(1) > kCollinear * std::max(spread(0), 1e-300),
           "RegisterPairedPoints: the source points are collinear");
-  // Umeyama (1991) without scaling: R = U diag(1, 1, det(U V^T)) V^T of the cross-covariance.
-  const Eigen::Matrix4d matrix = Eigen::umeyama(s, t, false);
-  PairedPointResult result;
-  result.target_from_source =
-      Rigid3d(Eigen::Quaterniond(Eigen::Matrix3d(matrix.topLeftCorner<3, 3>())),
-              matrix.topRightCorner<3, 1>());
-  double sum_sq = 0.0;
-  for (std::size_t i = 0; i < source.size(); ++i) {
-    const double r = (result.target_from_source * source[i] - target[i]).norm();
-    result.residuals_mm.push_back(r);
-    sum_sq += r * r;
-  }
-  result.fre_rms_mm = std::sqrt(sum_sq / static_cast<double>(source.size()));
-  return result;
+  // Kabsch / Umeyama without scaling, shared with tool tracking.
+  RigidFitResult fit = FitRigid(source, target);
+  return {fit.target_from_source, fit.fre_rms_mm, std::move(fit.residuals_mm)};
 }
 
 double PredictFiducialTreMm(std::span<const Eigen::Vector3d> fiducials, double fle_rms_mm,

@@ -6,7 +6,7 @@
 #include <span>
 #include <vector>
 
-#include "tofnav/tracking/rigid_fit.hpp"
+#include "tofnav/core/rigid_fit.hpp"
 #include "tofnav/tracking/tool_geometry.hpp"
 
 namespace tofnav {

@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "matchers.hpp"
-#include "tofnav/tracking/rigid_fit.hpp"
+#include "tofnav/core/rigid_fit.hpp"
 #include "tracking_test_tools.hpp"
 
 namespace tofnav {

@@ -8,6 +8,7 @@
 #include <map>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rigid_fit.hpp"
 #include "tofnav/markers/marker_centre.hpp"
 #include "tofnav/tracking/correspondence.hpp"
 
@@ -72,13 +73,8 @@ Points3d ReferenceFrame(const std::vector<Points3d>& frames, std::size_t count) 
 // The markers in their own frame: centroid origin, principal axes, x and y signs fixed by the
 // first marker with a clear coordinate on them, z = x cross y.
 Points3d Canonical(const Points3d& points) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
-  Eigen::MatrixXd centred(static_cast<Eigen::Index>(points.size()), 3);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    centred.row(static_cast<Eigen::Index>(i)) = (points[i] - mean).transpose();
-  }
+  Eigen::Vector3d mean;
+  const Eigen::MatrixXd centred = CentredRows(points, mean);
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinV);
   Eigen::Matrix3d axes = svd.matrixV();  // columns: principal directions
   for (int a = 0; a < 2; ++a) {

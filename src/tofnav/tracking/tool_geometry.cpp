@@ -8,7 +8,7 @@
 #include <limits>
 
 #include "tofnav/core/require.hpp"
-#include "tofnav/tracking/rigid_fit.hpp"
+#include "tofnav/core/rigid_fit.hpp"
 
 namespace tofnav {
 namespace {
@@ -19,13 +19,8 @@ constexpr double kCollinearMm = 1.0;  // second singular value / sqrt(n) below t
 constexpr double kPruneMm = 20.0;
 
 std::vector<double> SingularValues(const Points3d& points) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
-  Eigen::MatrixXd centred(static_cast<Eigen::Index>(points.size()), 3);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    centred.row(static_cast<Eigen::Index>(i)) = (points[i] - mean).transpose();
-  }
+  Eigen::Vector3d mean;
+  const Eigen::MatrixXd centred = CentredRows(points, mean);
   const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(centred).singularValues();
   return {s.data(), s.data() + s.size()};
 }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Kabsch fit: exact recovery, reflection safety, degeneracy evidence.
-#include "tofnav/tracking/rigid_fit.hpp"
+#include "tofnav/core/rigid_fit.hpp"
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Kabsch rigid fit of paired points.
-#include "tofnav/tracking/rigid_fit.hpp"
+#include "tofnav/core/rigid_fit.hpp"
 
 #include <Eigen/SVD>
 #include <cmath>
@@ -42,6 +42,18 @@ RigidFitResult FitRigid(std::span<const Eigen::Vector3d> source,
   }
   result.fre_rms_mm = std::sqrt(sum2 / n);
   return result;
+}
+
+Eigen::MatrixXd CentredRows(std::span<const Eigen::Vector3d> points, Eigen::Vector3d& centroid) {
+  Require(!points.empty(), "CentredRows: no points");
+  centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) centroid += p;
+  centroid /= static_cast<double>(points.size());
+  Eigen::MatrixXd centred(static_cast<Eigen::Index>(points.size()), 3);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    centred.row(static_cast<Eigen::Index>(i)) = (points[i] - centroid).transpose();
+  }
+  return centred;
 }
 
 }  // namespace tofnav
