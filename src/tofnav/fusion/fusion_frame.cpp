@@ -26,6 +26,16 @@ int HighVoxel(float c, float truncation, float voxel) {
   return static_cast<int>(std::floor((c + truncation) / voxel));
 }
 
+// Rounding of coordinates that fit in an int (the key checks above guarantee it).
+int FloorToInt(float x) {
+  const int i = static_cast<int>(x);  // towards zero
+  return static_cast<float>(i) > x ? i - 1 : i;
+}
+int CeilToInt(float x) {
+  const int i = static_cast<int>(x);
+  return static_cast<float>(i) < x ? i + 1 : i;
+}
+
 // The per-pixel loops below use plain floats rather than Eigen: they touch 262144 pixels per
 // frame and must stay fast in unoptimised test builds too.
 using Vec3 = std::array<float, 3>;
@@ -201,6 +211,7 @@ std::vector<Eigen::Vector3i> FusionFrame::Prepare(const Image<float>& range_mm,
 
   // Mark every block holding a voxel within the truncation of a point (a box around the point
   // contains the ray segment [d - truncation, d + truncation] that the kernel can update).
+  const float inverse_voxel = 1.0f / voxel;  // exact for the usual power-of-two voxel sizes
   const int roi_lo[3] = {roi_lo_vox_.x(), roi_lo_vox_.y(), roi_lo_vox_.z()};
   const int roi_hi[3] = {roi_hi_vox_.x(), roi_hi_vox_.y(), roi_hi_vox_.z()};
   const int base[3] = {key_lo.x(), key_lo.y(), key_lo.z()};
@@ -215,10 +226,11 @@ std::vector<Eigen::Vector3i> FusionFrame::Prepare(const Image<float>& range_mm,
           int b0[3], b1[3];
           for (std::size_t a = 0; a < 3; ++a) {
             const float c = points_[i][a];
-            b0[a] = FloorDiv(std::max(LowVoxel(c, truncation, voxel), roi_lo[a]), kTsdfBlockSide) -
-                    base[a];
-            b1[a] = FloorDiv(std::min(HighVoxel(c, truncation, voxel), roi_hi[a]), kTsdfBlockSide) -
-                    base[a];
+            // LowVoxel / HighVoxel without a division and a libm call per pixel and axis.
+            const int low = CeilToInt((c - truncation) * inverse_voxel);
+            const int high = FloorToInt((c + truncation) * inverse_voxel);
+            b0[a] = FloorDiv(std::max(low, roi_lo[a]), kTsdfBlockSide) - base[a];
+            b1[a] = FloorDiv(std::min(high, roi_hi[a]), kTsdfBlockSide) - base[a];
           }
           for (int z = b0[2]; z <= b1[2]; ++z) {
             for (int y = b0[1]; y <= b1[1]; ++y) {
