@@ -67,6 +67,8 @@ FusionFrame::FusionFrame(const TsdfOptions& options, const AhatCamera& camera)
   range_mm_.assign(n, 0.0f);
   points_.assign(n, Vec3{0.0f, 0.0f, 0.0f});
   row_lo_.resize(static_cast<std::size_t>(height_));
+  row_used_.resize(static_cast<std::size_t>(height_));
+  row_span_.resize(static_cast<std::size_t>(height_));
   row_hi_.resize(static_cast<std::size_t>(height_));
   if (options.roi_in_tool) {
     const double voxel = options.voxel_size_mm;
@@ -96,6 +98,8 @@ void FusionFrame::CleanRows(const Image<float>& range_mm, const Rigid3d& tool_fr
       [&](std::int64_t row) {
         const auto v = static_cast<std::size_t>(row);
         Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+        int used = 0;
+        std::size_t first = (v + 1) * static_cast<std::size_t>(width_), last = 0;
         for (std::size_t i = v * static_cast<std::size_t>(width_);
              i < (v + 1) * static_cast<std::size_t>(width_); ++i) {
           const float d = input[i];
@@ -112,9 +116,14 @@ void FusionFrame::CleanRows(const Image<float>& range_mm, const Rigid3d& tool_fr
           if (!inside) continue;
           range_mm_[i] = d;
           points_[i] = p;
+          ++used;
+          first = std::min(first, i);
+          last = i;
           for (std::size_t a = 0; a < 3; ++a)
             lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
         }
+        row_used_[v] = used;
+        row_span_[v] = {first, used > 0 ? last + 1 : first};
         row_lo_[v] = lo;
         row_hi_[v] = hi;
       },
@@ -178,8 +187,8 @@ std::vector<Eigen::Vector3i> FusionFrame::Prepare(const Image<float>& range_mm,
   ahat_from_tool_translation_ = ahat_from_tool.translation.cast<float>();
   CleanRows(range_mm, tool_from_ahat);
   ComputeWeights(pixel_weight);
-  pixels_used_ = static_cast<int>(
-      std::count_if(range_mm_.begin(), range_mm_.end(), [](float d) { return d > 0.0f; }));
+  pixels_used_ = 0;
+  for (const int n : row_used_) pixels_used_ += n;
   if (pixels_used_ == 0) return {};
 
   // Bounds of the touched blocks: the points' box grown by the truncation, within the ROI.
@@ -220,8 +229,8 @@ std::vector<Eigen::Vector3i> FusionFrame::Prepare(const Image<float>& range_mm,
       0, height_,
       [&](std::int64_t row) {
         const auto v = static_cast<std::size_t>(row);
-        for (std::size_t i = v * static_cast<std::size_t>(width_);
-             i < (v + 1) * static_cast<std::size_t>(width_); ++i) {
+        int last_b0[3] = {1, 1, 1}, last_b1[3] = {0, 0, 0};  // an empty box
+        for (std::size_t i = row_span_[v].first; i < row_span_[v].second; ++i) {
           if (range_mm_[i] <= 0.0f) continue;
           int b0[3], b1[3];
           for (std::size_t a = 0; a < 3; ++a) {
@@ -232,6 +241,10 @@ std::vector<Eigen::Vector3i> FusionFrame::Prepare(const Image<float>& range_mm,
             b0[a] = FloorDiv(std::max(low, roi_lo[a]), kTsdfBlockSide) - base[a];
             b1[a] = FloorDiv(std::min(high, roi_hi[a]), kTsdfBlockSide) - base[a];
           }
+          // Neighbouring pixels mostly mark the same blocks: skip a repeat of the last box.
+          if (std::equal(b0, b0 + 3, last_b0) && std::equal(b1, b1 + 3, last_b1)) continue;
+          std::copy(b0, b0 + 3, last_b0);
+          std::copy(b1, b1 + 3, last_b1);
           for (int z = b0[2]; z <= b1[2]; ++z) {
             for (int y = b0[1]; y <= b1[1]; ++y) {
               for (int x = b0[0]; x <= b1[0]; ++x) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <utility>
 
@@ -103,10 +104,14 @@ struct Trilinear {
     constexpr float kT[kTsdfBlockSide] = {0.0f,         1.0f / kLast, 2.0f / kLast, 3.0f / kLast,
                                           4.0f / kLast, 5.0f / kLast, 6.0f / kLast, 1.0f};
     constexpr float kPerVoxel = 1.0f / kLast;
-    for (int r = 0; r < kTsdfBlockSide * kTsdfBlockSide; ++r) {
-      const float ty = kT[r % kTsdfBlockSide], tz = kT[r / kTsdfBlockSide];
-      start[r] = c0 + cy * ty + cz * tz + cyz * ty * tz;
-      step[r] = (cx + cxy * ty + cxz * tz + cxyz * ty * tz) * kPerVoxel;
+    for (int z = 0; z < kTsdfBlockSide; ++z) {
+      const float tz = kT[z];
+      const float start_z = c0 + cz * tz, slope_z = cy + cyz * tz;
+      const float step_z = cx + cxz * tz, step_slope_z = cxy + cxyz * tz;
+      for (int y = 0; y < kTsdfBlockSide; ++y) {
+        start[y + kTsdfBlockSide * z] = start_z + slope_z * kT[y];
+        step[y + kTsdfBlockSide * z] = (step_z + step_slope_z * kT[y]) * kPerVoxel;
+      }
     }
   }
 };
@@ -160,11 +165,19 @@ std::optional<BlockProjection> InterpolatedProjection(const PixelLookup::Table& 
 float FootprintMaxRange(const float* range_mm, int width, const BlockProjection& p) {
   constexpr int kMaxScannedPixels = 1024;
   if ((p.u_hi - p.u_lo + 1) * (p.v_hi - p.v_lo + 1) > kMaxScannedPixels) return INFINITY;
-  float max_range = 0.0f;
+  // Cleaned ranges are 0 or positive and finite, whose bit patterns order like the values: an
+  // integer maximum, which the compiler vectorises (a float one it may not reorder).
+  std::int32_t max_bits = 0;
   for (int v = p.v_lo; v <= p.v_hi; ++v) {
     const float* row = range_mm + v * width;
-    for (int u = p.u_lo; u <= p.u_hi; ++u) max_range = std::max(max_range, row[u]);
+    for (int u = p.u_lo; u <= p.u_hi; ++u) {
+      std::int32_t bits = 0;
+      std::memcpy(&bits, row + u, sizeof(bits));
+      max_bits = std::max(max_bits, bits);
+    }
   }
+  float max_range = 0.0f;
+  std::memcpy(&max_range, &max_bits, sizeof(max_range));
   return max_range;
 }
 
@@ -241,12 +254,15 @@ std::int64_t FusionFrame::IntegrateBlock(const Eigen::Vector3i& key, TsdfBlock& 
     for (int y = lo.y(); y < hi.y(); ++y)
       rows.active |= std::uint64_t{1} << (y + kTsdfBlockSide * z);
   }
-  for (int r = 0; r < kTsdfBlockSide * kTsdfBlockSide; ++r) {
-    const auto fy = static_cast<float>(r % kTsdfBlockSide),
-               fz = static_cast<float>(r / kTsdfBlockSide);
-    rows.px[r] = o[0] + fy * sy[0] + fz * sz[0];
-    rows.py[r] = o[1] + fy * sy[1] + fz * sz[1];
-    rows.pz[r] = o[2] + fy * sy[2] + fz * sz[2];
+  for (int z = 0; z < kTsdfBlockSide; ++z) {
+    const auto fz = static_cast<float>(z);
+    const float start[3] = {o[0] + fz * sz[0], o[1] + fz * sz[1], o[2] + fz * sz[2]};
+    for (int y = 0; y < kTsdfBlockSide; ++y) {
+      const auto fy = static_cast<float>(y);
+      rows.px[y + kTsdfBlockSide * z] = start[0] + fy * sy[0];
+      rows.py[y + kTsdfBlockSide * z] = start[1] + fy * sy[1];
+      rows.pz[y + kTsdfBlockSide * z] = start[2] + fy * sy[2];
+    }
   }
   if (projection) {
     projection->u.Rows(rows.u, rows.du);
