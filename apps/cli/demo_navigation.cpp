@@ -2,6 +2,7 @@
 // tofnav demo, stages registration, tracking and guidance: the CT skin (skin) registered to the
 // reconstruction (register) against the true registration, the tools tracked with f_rf (track +
 // evaluate tracking), and the plan navigated (navigate + evaluate guidance) over the session.
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <sstream>
@@ -18,6 +19,7 @@
 #include "tofnav/io/tool_json.hpp"
 #include "tofnav/io/tracking_truth.hpp"
 #include "tofnav/io/transform_io.hpp"
+#include "tofnav/io/truth_json.hpp"
 #include "tofnav/io/volume_io.hpp"
 #include "tofnav/registration/register_surface.hpp"
 
@@ -90,10 +92,17 @@ void RunDemoTracking(DemoContext& ctx, DemoJson& stage) {
   args.recording = ctx.session_dir / "rm_depth_ahat.bin";
   args.calibration = ctx.session_dir / "calibration";
   const MarkerSource source = OpenMarkerSource(args);
+  // The headframe's tools and any instrument; skin stickers are for identification, not a tool.
+  const std::vector<int> headframe = HeadframeTools(*ctx.session);
+  const std::vector<int> on_patient = ctx.session->ToolsRigidWithPatient();
   std::vector<ToolGeometry> tools;
-  for (const sim::Tool& t : ctx.session->scene.tools) {
-    const std::filesystem::path file = ctx.session_dir / "tools" / (t.name + ".json");
-    if (std::filesystem::exists(file)) tools.push_back(ReadToolJson(file));
+  for (std::size_t i = 0; i < ctx.session->scene.tools.size(); ++i) {
+    const int t = static_cast<int>(i);
+    const bool sticker = std::find(on_patient.begin(), on_patient.end(), t) != on_patient.end() &&
+                         std::find(headframe.begin(), headframe.end(), t) == headframe.end();
+    const std::filesystem::path file =
+        ctx.session_dir / "tools" / (ctx.session->scene.tools[i].name + ".json");
+    if (!sticker && std::filesystem::exists(file)) tools.push_back(ReadToolJson(file));
   }
   Require(!tools.empty(), "the session wrote no tool file");
   const std::vector<ToolPoseRecord> records = TrackTools(

@@ -101,8 +101,12 @@ void RunDemoSession(DemoContext& ctx, DemoJson& stage) {
 void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   const SessionFiles s = OpenSession(ctx);
   const SurfaceIndex skin(SkinIsoSurface(ReadVolume(ctx.session_dir / "ct.nrrd")));
+  const ToolGeometry headframe = ReadToolJson(ctx.session_dir / "tools" / "headframe.json");
   IdentifyRecordingOptions options;
   options.max_frames = static_cast<int>(ctx.session_frames);
+  options.prepare_frame = [&](AhatFrame& frame) {  // TODO(identify branch): library ROI
+    KeepHeadAroundStickers(frame, s.camera, headframe);
+  };
   const IdentifyRecordingResult identified =
       IdentifyFromRecording(*s.recording, s.camera, ctx.frf, &skin, options,
                             [&](std::size_t d, std::size_t t) { ctx.progress("identify", d, t); });
@@ -159,6 +163,20 @@ void RunDemoReconstruction(DemoContext& ctx, DemoJson& stage) {
     options.marker_error = *ctx.frf;
     stage["note"] = "no depth model (stage depth failed): uncorrected ranges";
   }
+  // TODO(identify branch): the library's automatic ROI once it leaves out the headframe board.
+  options.correct_range = [correct = options.correct_range, &tool](const AhatFrame& frame,
+                                                                   const AhatCamera& camera) {
+    Image<float> range(camera.width(), camera.height(), 0.0f);
+    if (correct) {
+      range = correct(frame, camera);
+    } else {
+      for (int v = 0; v < range.height(); ++v) {
+        for (int u = 0; u < range.width(); ++u) range(u, v) = frame.range_mm(u, v);
+      }
+    }
+    KeepHeadAroundStickers(frame, camera, tool, range);
+    return range;
+  };
   const ReconstructResult r =
       ReconstructSurface(*s.recording, s.camera, tool, options,
                          [&](std::size_t d, std::size_t t) { ctx.progress("reconstruct", d, t); });

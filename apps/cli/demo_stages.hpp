@@ -13,6 +13,8 @@
 #include "tofnav/core/triangle_mesh.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/io/depth_model_json.hpp"
+#include "tofnav/sensor/ahat_camera.hpp"
+#include "tofnav/sensor/ahat_frame.hpp"
 #include "tofnav/sim/patient.hpp"
 #include "tofnav/sim/scenario.hpp"
 #include "tofnav/tracking/tool_geometry.hpp"
@@ -55,6 +57,19 @@ void RunDemoReconstruction(DemoContext& ctx, DemoJson& stage);
 void RunDemoRegistration(DemoContext& ctx, DemoJson& stage);
 void RunDemoTracking(DemoContext& ctx, DemoJson& stage);
 void RunDemoGuidance(DemoContext& ctx, DemoJson& stage);
+
+/// TODO(identify branch): until the library's head ROI excludes the headframe board. The centre
+/// of the skin stickers in a frame: the markers detected that the posed headframe tool does not
+/// explain (nullopt when the headframe or every sticker is unseen).
+std::optional<Eigen::Vector3d> StickerCentreInAhat(const AhatFrame& frame, const AhatCamera& camera,
+                                                   const ToolGeometry& headframe);
+/// Drops (range and AB 0) the pixels farther than 130 mm from the stickers' centre, every pixel
+/// when it is unknown.
+void KeepHeadAroundStickers(AhatFrame& frame, const AhatCamera& camera,
+                            const ToolGeometry& headframe);
+/// The same on a (corrected) range image of `frame`.
+void KeepHeadAroundStickers(const AhatFrame& frame, const AhatCamera& camera,
+                            const ToolGeometry& headframe, Image<float>& range_mm);
 
 /// The paper's reference figures (demo.json "paper"), keys as the stages' where comparable.
 DemoJson PaperFigures();
