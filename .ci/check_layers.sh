@@ -17,6 +17,7 @@ declare -A allowed=(
   [navigation]="navigation tracking correction fusion imaging registration markers sensor core"
   [io]="io navigation sim tracking correction fusion imaging registration markers sensor core"
   [stream]="stream io navigation sim tracking correction fusion imaging registration markers sensor core"
+  [report]="report io core"
 )
 
 status=0

@@ -11,6 +11,7 @@
 #include <open3d/geometry/TriangleMesh.h>
 #include <open3d/pipelines/integration/ScalableTSDFVolume.h>
 #include <tbb/global_control.h>
+#include <time.h>
 
 #include <chrono>
 #include <cmath>
@@ -31,6 +32,15 @@ constexpr int kPinholeSize = 512;
 constexpr double kPinholeFocalPx = 180.0;  // +-55 deg: the useful part of the AHAT's view
 
 using Clock = std::chrono::steady_clock;
+
+/// CPU time of the whole process (every thread) [s]: under load, wall times mostly measure the
+/// other processes, CPU times much less (with OMP_WAIT_POLICY=passive, so that Open3D's OpenMP
+/// workers sleep instead of spinning between its parallel loops).
+double ProcessCpuS() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 // Nearest-neighbour re-sampling of AHAT radial range to pinhole z-depth [m] (hl2ss-style).
 struct PinholeResampler {
@@ -116,19 +126,23 @@ void BM_SideBySide(benchmark::State& state) {
   open3d::geometry::RGBDImage rgbd;
   rgbd.color_.Prepare(kPinholeSize, kPinholeSize, 3, 1);
   rgbd.depth_.Prepare(kPinholeSize, kPinholeSize, 1, 4);
-  double ours_s = 0.0, theirs_s = 0.0, resample_s = 0.0;
+  double ours_s = 0.0, theirs_s = 0.0, resample_s = 0.0, ours_cpu_s = 0.0, theirs_cpu_s = 0.0;
   std::size_t i = 0;
   for (auto _ : state) {
     const std::size_t f = i++ % kFrames;
     Clock::time_point t = Clock::now();
+    double c = ProcessCpuS();
     ours.Integrate(scene.frames[f], scene.poses[f]);
     const double a = std::chrono::duration<double>(Clock::now() - t).count();
+    ours_cpu_s += ProcessCpuS() - c;
     t = Clock::now();
     scene.resampler.Resample(scene.frames[f], rgbd.depth_);
     const double r = std::chrono::duration<double>(Clock::now() - t).count();
     t = Clock::now();
+    c = ProcessCpuS();
     theirs.Integrate(rgbd, intrinsic, ExtrinsicMetres(scene.poses[f]));
     const double b = std::chrono::duration<double>(Clock::now() - t).count();
+    theirs_cpu_s += ProcessCpuS() - c;
     ours_s += a;
     resample_s += r;
     theirs_s += b;
@@ -139,6 +153,9 @@ void BM_SideBySide(benchmark::State& state) {
   state.counters["open3d_ms"] = 1e3 * theirs_s / n;
   state.counters["resample_ms"] = 1e3 * resample_s / n;
   state.counters["ratio"] = theirs_s / ours_s;
+  state.counters["tofnav_cpu_ms"] = 1e3 * ours_cpu_s / n;
+  state.counters["open3d_cpu_ms"] = 1e3 * theirs_cpu_s / n;
+  state.counters["cpu_ratio"] = theirs_cpu_s / ours_cpu_s;
   const TriangleMesh mesh = ExtractIsoSurface(ours);
   const auto o3d = theirs.ExtractTriangleMesh();
   std::vector<Eigen::Vector3d> o3d_mm;

@@ -14,6 +14,7 @@ packages=(
   python3-numpy python3-nibabel python3-pydicom  # tests/volume_oracle.py
   python3-dev pybind11-dev python3-pytest        # python/: bindings and their tests
   invesalius-examples mricron-data               # real head CT/MR read by tests, never committed
+  chromium                                       # tests/report_chromium_test.sh (headless)
 )
 
 missing=()

@@ -73,5 +73,9 @@ expect_failure "HL2SSV23" navigate "$scratch/random.bin" --tool "$scratch/ref.js
   --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json" --no-igtl
 printf 'timestamp_s,status\n1.0,tracking\n' >"$scratch/nav.csv"
 expect_failure "not a tofnav navigate CSV" evaluate guidance "$scratch/nav.csv" --truth "$scratch"
+mkdir -p "$scratch/nodemo"
+expect_failure "$scratch/nodemo/demo.json" report "$scratch/nodemo"
+printf '{"format": "other"}' >"$scratch/nodemo/demo.json"
+expect_failure "not a tofnav demo summary" report "$scratch/nodemo"
 [ $failures -eq 0 ] && echo "all CLI error checks passed"
 exit $failures

@@ -38,6 +38,8 @@ constexpr Command kCommands[] = {
      tofnav::RunEvaluate},
     {"navigate", "track the headframe, place the plan and stream it to 3D Slicer (OpenIGTLink)",
      tofnav::RunNavigate},
+    {"report", "the evaluation report (self-contained HTML) of a tofnav demo directory",
+     tofnav::RunReport},
 };
 
 void PrintUsage() {

@@ -26,6 +26,16 @@ int HighVoxel(float c, float truncation, float voxel) {
   return static_cast<int>(std::floor((c + truncation) / voxel));
 }
 
+// Rounding of coordinates that fit in an int (the key checks above guarantee it).
+int FloorToInt(float x) {
+  const int i = static_cast<int>(x);  // towards zero
+  return static_cast<float>(i) > x ? i - 1 : i;
+}
+int CeilToInt(float x) {
+  const int i = static_cast<int>(x);
+  return static_cast<float>(i) < x ? i + 1 : i;
+}
+
 // The per-pixel loops below use plain floats rather than Eigen: they touch 262144 pixels per
 // frame and must stay fast in unoptimised test builds too.
 using Vec3 = std::array<float, 3>;
@@ -57,6 +67,8 @@ FusionFrame::FusionFrame(const TsdfOptions& options, const AhatCamera& camera)
   range_mm_.assign(n, 0.0f);
   points_.assign(n, Vec3{0.0f, 0.0f, 0.0f});
   row_lo_.resize(static_cast<std::size_t>(height_));
+  row_used_.resize(static_cast<std::size_t>(height_));
+  row_span_.resize(static_cast<std::size_t>(height_));
   row_hi_.resize(static_cast<std::size_t>(height_));
   if (options.roi_in_tool) {
     const double voxel = options.voxel_size_mm;
@@ -86,6 +98,8 @@ void FusionFrame::CleanRows(const Image<float>& range_mm, const Rigid3d& tool_fr
       [&](std::int64_t row) {
         const auto v = static_cast<std::size_t>(row);
         Vec3 lo{INFINITY, INFINITY, INFINITY}, hi{-INFINITY, -INFINITY, -INFINITY};
+        int used = 0;
+        std::size_t first = (v + 1) * static_cast<std::size_t>(width_), last = 0;
         for (std::size_t i = v * static_cast<std::size_t>(width_);
              i < (v + 1) * static_cast<std::size_t>(width_); ++i) {
           const float d = input[i];
@@ -102,9 +116,14 @@ void FusionFrame::CleanRows(const Image<float>& range_mm, const Rigid3d& tool_fr
           if (!inside) continue;
           range_mm_[i] = d;
           points_[i] = p;
+          ++used;
+          first = std::min(first, i);
+          last = i;
           for (std::size_t a = 0; a < 3; ++a)
             lo[a] = std::min(lo[a], p[a]), hi[a] = std::max(hi[a], p[a]);
         }
+        row_used_[v] = used;
+        row_span_[v] = {first, used > 0 ? last + 1 : first};
         row_lo_[v] = lo;
         row_hi_[v] = hi;
       },
@@ -168,8 +187,8 @@ std::vector<Eigen::Vector3i> FusionFrame::Prepare(const Image<float>& range_mm,
   ahat_from_tool_translation_ = ahat_from_tool.translation.cast<float>();
   CleanRows(range_mm, tool_from_ahat);
   ComputeWeights(pixel_weight);
-  pixels_used_ = static_cast<int>(
-      std::count_if(range_mm_.begin(), range_mm_.end(), [](float d) { return d > 0.0f; }));
+  pixels_used_ = 0;
+  for (const int n : row_used_) pixels_used_ += n;
   if (pixels_used_ == 0) return {};
 
   // Bounds of the touched blocks: the points' box grown by the truncation, within the ROI.
@@ -201,6 +220,7 @@ std::vector<Eigen::Vector3i> FusionFrame::Prepare(const Image<float>& range_mm,
 
   // Mark every block holding a voxel within the truncation of a point (a box around the point
   // contains the ray segment [d - truncation, d + truncation] that the kernel can update).
+  const float inverse_voxel = 1.0f / voxel;  // exact for the usual power-of-two voxel sizes
   const int roi_lo[3] = {roi_lo_vox_.x(), roi_lo_vox_.y(), roi_lo_vox_.z()};
   const int roi_hi[3] = {roi_hi_vox_.x(), roi_hi_vox_.y(), roi_hi_vox_.z()};
   const int base[3] = {key_lo.x(), key_lo.y(), key_lo.z()};
@@ -209,17 +229,22 @@ std::vector<Eigen::Vector3i> FusionFrame::Prepare(const Image<float>& range_mm,
       0, height_,
       [&](std::int64_t row) {
         const auto v = static_cast<std::size_t>(row);
-        for (std::size_t i = v * static_cast<std::size_t>(width_);
-             i < (v + 1) * static_cast<std::size_t>(width_); ++i) {
+        int last_b0[3] = {1, 1, 1}, last_b1[3] = {0, 0, 0};  // an empty box
+        for (std::size_t i = row_span_[v].first; i < row_span_[v].second; ++i) {
           if (range_mm_[i] <= 0.0f) continue;
           int b0[3], b1[3];
           for (std::size_t a = 0; a < 3; ++a) {
             const float c = points_[i][a];
-            b0[a] = FloorDiv(std::max(LowVoxel(c, truncation, voxel), roi_lo[a]), kTsdfBlockSide) -
-                    base[a];
-            b1[a] = FloorDiv(std::min(HighVoxel(c, truncation, voxel), roi_hi[a]), kTsdfBlockSide) -
-                    base[a];
+            // LowVoxel / HighVoxel without a division and a libm call per pixel and axis.
+            const int low = CeilToInt((c - truncation) * inverse_voxel);
+            const int high = FloorToInt((c + truncation) * inverse_voxel);
+            b0[a] = FloorDiv(std::max(low, roi_lo[a]), kTsdfBlockSide) - base[a];
+            b1[a] = FloorDiv(std::min(high, roi_hi[a]), kTsdfBlockSide) - base[a];
           }
+          // Neighbouring pixels mostly mark the same blocks: skip a repeat of the last box.
+          if (std::equal(b0, b0 + 3, last_b0) && std::equal(b1, b1 + 3, last_b1)) continue;
+          std::copy(b0, b0 + 3, last_b0);
+          std::copy(b1, b1 + 3, last_b1);
           for (int z = b0[2]; z <= b1[2]; ++z) {
             for (int y = b0[1]; y <= b1[1]; ++y) {
               for (int x = b0[0]; x <= b1[0]; ++x) {

@@ -5,6 +5,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "tofnav/core/image.hpp"
@@ -50,7 +51,9 @@ class FusionFrame {
   std::vector<std::array<float, 3>> points_;           // in `tool` where range_mm_ > 0
   std::vector<float> weight_;                          // per pixel; empty when every weight is 1
   std::vector<std::array<float, 3>> row_lo_, row_hi_;  // per-row bounds of points_
-  std::vector<std::uint8_t> block_mask_;               // touched blocks in the frame's key box
+  std::vector<int> row_used_;                          // per-row count of usable pixels
+  std::vector<std::pair<std::size_t, std::size_t>> row_span_;  // per row: usable in [first, second)
+  std::vector<std::uint8_t> block_mask_;  // touched blocks in the frame's key box
   Eigen::Matrix3f ahat_from_tool_rotation_ = Eigen::Matrix3f::Identity();
   Eigen::Vector3f ahat_from_tool_translation_ = Eigen::Vector3f::Zero();
   std::array<float, 3> camera_in_tool_{};

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <optional>
 #include <utility>
 
@@ -35,6 +36,7 @@ std::int64_t UpdateRowT(const KernelInputs in, const KernelRow row, float* __res
     const auto fx = static_cast<float>(x);
     const float px = row.px + fx * row.sx, py = row.py + fx * row.sy, pz = row.pz + fx * row.sz;
     const float distance = std::sqrt(px * px + py * py + pz * pz);
+    if (!(distance <= row.cull_mm)) continue;  // occluded for certain
     PixelLookup::Position position{row.u + fx * row.du, row.v + fx * row.dv};
     if constexpr (!kInterpolated) {
       position = in.lookup.Lookup(px, py, pz, distance);
@@ -97,12 +99,37 @@ struct Trilinear {
     return {c0 + cy * ty + cz * tz + cyz * ty * tz,
             (cx + cxy * ty + cxz * tz + cxyz * ty * tz) / kLast};
   }
+  /// Row(y / 7, z / 7) for the 64 rows r = y + 8 z of a block: value and change per voxel.
+  void Rows(float* start, float* step) const {
+    constexpr float kT[kTsdfBlockSide] = {0.0f,         1.0f / kLast, 2.0f / kLast, 3.0f / kLast,
+                                          4.0f / kLast, 5.0f / kLast, 6.0f / kLast, 1.0f};
+    constexpr float kPerVoxel = 1.0f / kLast;
+    for (int z = 0; z < kTsdfBlockSide; ++z) {
+      const float tz = kT[z];
+      const float start_z = c0 + cz * tz, slope_z = cy + cyz * tz;
+      const float step_z = cx + cxz * tz, step_slope_z = cxy + cxyz * tz;
+      for (int y = 0; y < kTsdfBlockSide; ++y) {
+        start[y + kTsdfBlockSide * z] = start_z + slope_z * kT[y];
+        step[y + kTsdfBlockSide * z] = (step_z + step_slope_z * kT[y]) * kPerVoxel;
+      }
+    }
+  }
 };
 
-/// Pixel positions (u and v) of the eight corner voxels when every corner is seen and their
-/// trilinear interpolation reproduces the centre voxel's projection.
-std::optional<std::pair<Trilinear, Trilinear>> InterpolatedProjection(
-    const PixelLookup::Table& lookup, const Eigen::Vector3f& origin, const Eigen::Matrix3f& steps) {
+/// The corners' pixel positions as trilinear interpolants, and the pixels any voxel of the block
+/// reads: interpolated positions are convex combinations of the corners', so a voxel's four
+/// pixels lie in [u_lo, u_hi] x [v_lo, v_hi].
+struct BlockProjection {
+  Trilinear u, v;
+  int u_lo, u_hi, v_lo, v_hi;
+};
+
+/// The projection of the block when every corner is seen and the trilinear interpolation of the
+/// corners reproduces the centre voxel's projection.
+std::optional<BlockProjection> InterpolatedProjection(const PixelLookup::Table& lookup,
+                                                      const Eigen::Vector3f& origin,
+                                                      const Eigen::Matrix3f& steps, int width,
+                                                      int height) {
   std::array<float, 8> u{}, v{};
   for (std::size_t c = 0; c < 8; ++c) {
     const Eigen::Vector3i corner(c & 1, (c >> 1) & 1, (c >> 2) & 1);
@@ -122,7 +149,36 @@ std::optional<std::pair<Trilinear, Trilinear>> InterpolatedProjection(
         std::abs(exact.v - mid_v) <= kMaxInterpolationErrorPx)) {
     return std::nullopt;
   }
-  return std::pair(tu, tv);
+  const auto [u_min, u_max] = std::minmax_element(u.begin(), u.end());
+  const auto [v_min, v_max] = std::minmax_element(v.begin(), v.end());
+  // The kernel reads pixels min(floor(u), width - 2) and the one after.
+  return BlockProjection{tu,
+                         tv,
+                         std::min(static_cast<int>(*u_min), width - 2),
+                         std::min(static_cast<int>(*u_max), width - 2) + 1,
+                         std::min(static_cast<int>(*v_min), height - 2),
+                         std::min(static_cast<int>(*v_max), height - 2) + 1};
+}
+
+/// Largest range in the block's pixel footprint; infinity when the footprint is too large to
+/// scan cheaply (a block very near the camera).
+float FootprintMaxRange(const float* range_mm, int width, const BlockProjection& p) {
+  constexpr int kMaxScannedPixels = 1024;
+  if ((p.u_hi - p.u_lo + 1) * (p.v_hi - p.v_lo + 1) > kMaxScannedPixels) return INFINITY;
+  // Cleaned ranges are 0 or positive and finite, whose bit patterns order like the values: an
+  // integer maximum, which the compiler vectorises (a float one it may not reorder).
+  std::int32_t max_bits = 0;
+  for (int v = p.v_lo; v <= p.v_hi; ++v) {
+    const float* row = range_mm + v * width;
+    for (int u = p.u_lo; u <= p.u_hi; ++u) {
+      std::int32_t bits = 0;
+      std::memcpy(&bits, row + u, sizeof(bits));
+      max_bits = std::max(max_bits, bits);
+    }
+  }
+  float max_range = 0.0f;
+  std::memcpy(&max_range, &max_bits, sizeof(max_range));
+  return max_range;
 }
 
 }  // namespace
@@ -168,32 +224,64 @@ std::int64_t FusionFrame::IntegrateBlock(const Eigen::Vector3i& key, TsdfBlock& 
   const auto voxel = static_cast<float>(options_.voxel_size_mm);
   const Eigen::Matrix3f steps = voxel * ahat_from_tool_rotation_;
   const Eigen::Vector3f origin = steps * first.cast<float>() + ahat_from_tool_translation_;
-  const auto projection = InterpolatedProjection(in.lookup, origin, steps);
+  const auto projection = InterpolatedProjection(in.lookup, origin, steps, width_, height_);
+  // Occlusion culling, exact: a voxel is updated only when range - |p| >= -truncation, and a
+  // voxel's range is at most the largest range it reads, so voxels (rows, whole blocks) farther
+  // than that plus the truncation are left alone without reading the frame (most of a block
+  // behind the surface). The margin absorbs rounding in the bounds.
+  constexpr float kCullMarginMm = 0.01f;
+  float cull_mm = INFINITY;
+  if (projection) {
+    cull_mm = FootprintMaxRange(in.range_mm, width_, *projection) + truncation_mm_ + kCullMarginMm;
+    const Eigen::Vector3f centre = origin + steps * Eigen::Vector3f::Constant(0.5f * kLast);
+    const float half_diagonal = 0.5f * kLast * std::sqrt(3.0f) * voxel;
+    if (centre.norm() - half_diagonal > cull_mm) return 0;
+  }
   const bool bilinear = options_.sampling == TsdfDepthSampling::kBilinear;
-  const bool simd = projection && use_avx2_;
   // Plain floats from here: this runs per row, also in unoptimised builds.
   const float o[3] = {origin.x(), origin.y(), origin.z()};
+  const float sx[3] = {steps(0, 0), steps(1, 0), steps(2, 0)};
   const float sy[3] = {steps(0, 1), steps(1, 1), steps(2, 1)};
   const float sz[3] = {steps(0, 2), steps(1, 2), steps(2, 2)};
-  KernelRow row{0.0f, 0.0f, 0.0f, steps(0, 0), steps(1, 0), steps(2, 0),
-                0.0f, 0.0f, 0.0f, 0.0f,        lo.x(),      hi.x()};
-  std::int64_t updated = 0;
+  // Every row's start point and pixel positions, computed once for the scalar and SIMD paths:
+  // branch-free loops over all 64 rows, which the compiler vectorises.
+  BlockRows rows;
+  rows.sx = sx[0], rows.sy = sx[1], rows.sz = sx[2];
+  rows.x_lo = lo.x(), rows.x_hi = hi.x();
+  rows.cull_mm = cull_mm;
+  rows.active = 0;
   for (int z = lo.z(); z < hi.z(); ++z) {
-    for (int y = lo.y(); y < hi.y(); ++y) {
-      const auto fy = static_cast<float>(y), fz = static_cast<float>(z);
-      row.px = o[0] + fy * sy[0] + fz * sz[0];
-      row.py = o[1] + fy * sy[1] + fz * sz[1];
-      row.pz = o[2] + fy * sy[2] + fz * sz[2];
-      if (projection) {
-        std::tie(row.u, row.du) = projection->first.Row(fy / kLast, fz / kLast);
-        std::tie(row.v, row.dv) = projection->second.Row(fy / kLast, fz / kLast);
-      }
-      const auto offset = static_cast<std::size_t>(kTsdfBlockSide * (y + kTsdfBlockSide * z));
-      float* tsdf = block.tsdf.data() + offset;
-      float* weight = block.weight.data() + offset;
-      updated += simd ? UpdateInterpolatedRowAvx2(in, row, bilinear, tsdf, weight)
-                      : UpdateRow(in, row, projection.has_value(), bilinear, tsdf, weight);
+    for (int y = lo.y(); y < hi.y(); ++y)
+      rows.active |= std::uint64_t{1} << (y + kTsdfBlockSide * z);
+  }
+  for (int z = 0; z < kTsdfBlockSide; ++z) {
+    const auto fz = static_cast<float>(z);
+    const float start[3] = {o[0] + fz * sz[0], o[1] + fz * sz[1], o[2] + fz * sz[2]};
+    for (int y = 0; y < kTsdfBlockSide; ++y) {
+      const auto fy = static_cast<float>(y);
+      rows.px[y + kTsdfBlockSide * z] = start[0] + fy * sy[0];
+      rows.py[y + kTsdfBlockSide * z] = start[1] + fy * sy[1];
+      rows.pz[y + kTsdfBlockSide * z] = start[2] + fy * sy[2];
     }
+  }
+  if (projection) {
+    projection->u.Rows(rows.u, rows.du);
+    projection->v.Rows(rows.v, rows.dv);
+  } else {
+    std::fill_n(rows.u, 64, 0.0f), std::fill_n(rows.du, 64, 0.0f);
+    std::fill_n(rows.v, 64, 0.0f), std::fill_n(rows.dv, 64, 0.0f);
+  }
+  if (projection && use_avx2_) {
+    return UpdateInterpolatedBlockAvx2(in, rows, bilinear, block.tsdf.data(), block.weight.data());
+  }
+  std::int64_t updated = 0;
+  for (std::uint64_t active = rows.active; active != 0; active &= active - 1) {
+    const int r = __builtin_ctzll(active);
+    const auto offset = static_cast<std::size_t>(kTsdfBlockSide * r);
+    const KernelRow row{rows.px[r], rows.py[r], rows.pz[r], sx[0],  sx[1],  sx[2],  rows.u[r],
+                        rows.v[r],  rows.du[r], rows.dv[r], lo.x(), hi.x(), cull_mm};
+    updated += UpdateRow(in, row, projection.has_value(), bilinear, block.tsdf.data() + offset,
+                         block.weight.data() + offset);
   }
   return updated;
 }

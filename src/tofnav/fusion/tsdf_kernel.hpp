@@ -25,6 +25,19 @@ struct KernelRow {
   float px, py, pz, sx, sy, sz;
   float u, v, du, dv;
   int x_lo, x_hi;
+  /// Voxels farther than this from the camera are left alone: an exact cull, set to the largest
+  /// range the row can read plus the truncation (see FusionFrame::IntegrateBlock) [mm].
+  float cull_mm = __builtin_inff();
+};
+
+/// The interpolated rows of one block, row r = y + 8 z: KernelRow's fields per row (SoA), the
+/// shared step along x and voxel range, and the rows to update (bit r of `active`).
+struct BlockRows {
+  float px[64], py[64], pz[64], u[64], du[64], v[64], dv[64];
+  float sx, sy, sz;
+  int x_lo, x_hi;
+  float cull_mm;
+  std::uint64_t active;
 };
 
 /// Curless & Levoy (1996) running average over one row of `tsdf` and `weight` (8 entries each);
@@ -39,5 +52,8 @@ bool CpuHasAvx2();
 /// the same order as the scalar loop (no fused multiply-add), so the results are bit-identical.
 std::int64_t UpdateInterpolatedRowAvx2(const KernelInputs& in, const KernelRow& row, bool bilinear,
                                        float* tsdf, float* weight);
+/// UpdateInterpolatedRowAvx2 over the active rows of a block (`tsdf`, `weight`: 512 entries).
+std::int64_t UpdateInterpolatedBlockAvx2(const KernelInputs& in, const BlockRows& rows,
+                                         bool bilinear, float* tsdf, float* weight);
 
 }  // namespace tofnav

@@ -74,9 +74,20 @@ IntegrateResult TsdfVolume::Integrate(const Image<float>& range_mm,
   result.integrated = true;
   result.pixels_used = frame_->pixels_used();
   result.blocks_touched = static_cast<int>(touched.size());
-  // Serial: find or allocate the blocks (new ones in scan order, so ids are deterministic).
+  // Find the blocks in parallel (reads only), then allocate the missing ones serially in scan
+  // order, so ids are deterministic.
+  constexpr std::size_t kMissing = ~std::size_t{0};
   std::vector<std::size_t> ids(touched.size());
+  ParallelFor(
+      0, static_cast<std::int64_t>(touched.size()),
+      [&](std::int64_t i) {
+        const auto k = static_cast<std::size_t>(i);
+        const auto it = index_.find(PackKey(touched[k]));
+        ids[k] = it == index_.end() ? kMissing : it->second;
+      },
+      256);
   for (std::size_t i = 0; i < touched.size(); ++i) {
+    if (ids[i] != kMissing) continue;
     const auto [it, inserted] = index_.try_emplace(PackKey(touched[i]), blocks_.size());
     if (inserted) {
       keys_.push_back(touched[i]);
