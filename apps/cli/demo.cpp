@@ -14,6 +14,7 @@
 #include "progress.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/patient_head.hpp"
+#include "tofnav/report/report.hpp"
 
 namespace tofnav {
 namespace {
@@ -130,11 +131,17 @@ int RunDemo(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   demo["paper"] = PaperFigures();
   WriteFileAtomically(out / "demo.json", demo.dump(2) + "\n");
+  try {
+    WriteHtmlReport(out, out / "report.html");
+  } catch (const std::exception& e) {  // the figures are in demo.json; say why the page is not
+    std::cerr << "tofnav demo: report.html not written: " << e.what() << "\n";
+    all_ok = false;
+  }
   if (json) {
     std::cout << demo.dump(2) << "\n";
   } else {
     PrintDemoTables(demo);
-    std::cout << "\nartefacts and demo.json in " << out.string() << "\n";
+    std::cout << "\nartefacts, demo.json and report.html in " << out.string() << "\n";
   }
   return all_ok ? EXIT_SUCCESS : EXIT_FAILURE;
 }
