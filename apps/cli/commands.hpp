@@ -6,6 +6,7 @@ namespace tofnav {
 
 int RunConvert(int argc, char** argv);
 int RunCorrect(int argc, char** argv);
+int RunDemo(int argc, char** argv);
 int RunEvaluate(int argc, char** argv);
 int RunIdentify(int argc, char** argv);
 int RunInfo(int argc, char** argv);

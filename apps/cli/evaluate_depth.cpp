@@ -1,104 +1,24 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav evaluate depth: depth error per object before/after correction vs simulator truth.
 #include <CLI/CLI.hpp>
-#include <algorithm>
 #include <cstdlib>
-#include <fstream>
 #include <iomanip>
 #include <iostream>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 
 #include "commands.hpp"
 #include "evaluate.hpp"
 #include "progress.hpp"
-#include "tofnav/correction/correct_range.hpp"
-#include "tofnav/correction/identification_frame.hpp"
 #include "tofnav/io/ahat_recording.hpp"
-#include "tofnav/io/depth_model_json.hpp"
+#include "tofnav/io/depth_evaluate.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/io_error.hpp"
 #include "tofnav/io/scenario_json.hpp"
-#include "tofnav/sim/raycaster.hpp"
 
 namespace tofnav {
-namespace {
 
 using Json = nlohmann::json;
-constexpr std::size_t kTruthFrameBytes = 4u * kAhatPixels;
-constexpr int kEdgeMarginPx = 2;      // pixels this close to another object or a marker: mixed
-constexpr double kEdgeJumpMm = 10.0;  // truth range jump that marks a depth edge
-
-Rigid3d MatrixPose(const Json& m) {
-  Eigen::Matrix4d a;
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c)
-      a(r, c) = m.at(static_cast<std::size_t>(r)).at(static_cast<std::size_t>(c)).get<double>();
-  }
-  return Rigid3d(Eigen::Quaterniond(a.topLeftCorner<3, 3>()).normalized(),
-                 a.topRightCorner<3, 1>());
-}
-
-// Object label per pixel (-1: none, -2: marker) from ray casting the scenario at the truth poses.
-Image<int> ObjectLabels(sim::Scene& scene, sim::SceneRaycaster& caster, const Json& frame,
-                        const AhatCamera& camera) {
-  for (sim::SceneObject& o : scene.objects) {
-    o.scene_from_object = MatrixPose(frame.at("ahat_from_objects").at(o.name));
-  }
-  for (sim::Tool& t : scene.tools) t.scene_from_tool = MatrixPose(frame.at("ahat_from_" + t.name));
-  caster.SetPoses(scene, Rigid3d());
-  std::vector<Eigen::Vector3d> rays(kAhatPixels, Eigen::Vector3d::UnitZ());
-  for (int v = 0; v < kAhatHeight; ++v) {
-    for (int u = 0; u < kAhatWidth; ++u) {
-      if (camera.IsValid(u, v))
-        rays[static_cast<std::size_t>(v * kAhatWidth + u)] = camera.PixelRay(u, v).cast<double>();
-    }
-  }
-  std::vector<sim::RayHit> hits(rays.size());
-  caster.Intersect(rays, hits);
-  Image<int> labels(kAhatWidth, kAhatHeight, -1);
-  for (int v = 0; v < kAhatHeight; ++v) {
-    for (int u = 0; u < kAhatWidth; ++u) {
-      const sim::RayHit& h = hits[static_cast<std::size_t>(v * kAhatWidth + u)];
-      if (!camera.IsValid(u, v) || !h.hit()) continue;
-      labels(u, v) = h.object >= 0 ? h.object : -2;
-    }
-  }
-  return labels;
-}
-
-// Interior pixels of an object: same label and no truth depth edge within the margin.
-bool Interior(const Image<int>& labels, const Image<float>& truth, int u, int v) {
-  const int label = labels(u, v);
-  for (int dv = -kEdgeMarginPx; dv <= kEdgeMarginPx; ++dv) {
-    for (int du = -kEdgeMarginPx; du <= kEdgeMarginPx; ++du) {
-      if (!labels.Contains(u + du, v + dv) || labels(u + du, v + dv) != label) return false;
-      if (std::abs(truth(u + du, v + dv) - truth(u, v)) > kEdgeJumpMm) return false;
-    }
-  }
-  return true;
-}
-
-struct Stats {
-  double median = 0.0, q1 = 0.0, q3 = 0.0;
-  std::size_t count = 0;
-};
-Stats Summarise(std::vector<float>& e) {
-  Stats s;
-  s.count = e.size();
-  if (e.empty()) return s;
-  auto at = [&](double q) {
-    const auto k = static_cast<std::size_t>(q * static_cast<double>(e.size() - 1));
-    std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(k), e.end());
-    return static_cast<double>(e[k]);
-  };
-  s.q1 = at(0.25), s.median = at(0.5), s.q3 = at(0.75);
-  return s;
-}
-
-}  // namespace
 
 int RunEvaluateDepth(int argc, char** argv) {
   CLI::App app{
@@ -125,77 +45,38 @@ int RunEvaluateDepth(int argc, char** argv) {
   if (calibration_path.empty()) calibration_path = truth_dir / "calibration";
   const AhatCamera camera(ReadHl2ssCalibration(calibration_path));
   const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
-  std::ifstream truth_file(truth_dir / "truth.json");
-  if (!truth_file) throw IoError(truth_dir / "truth.json", std::nullopt, "cannot open");
-  const Json truth = Json::parse(truth_file);
-  if (scenario_name.empty()) scenario_name = truth.at("scenario").get<std::string>();
-  sim::Scenario scenario = LoadScenario(scenario_name);
-  sim::SceneRaycaster caster(scenario.scene);
-  const Json& truth_frames = truth.at("frames");
-  const RandomAccessFile ranges(truth_dir / "truth_range_f32.bin");
-  if (ranges.size() != truth_frames.size() * kTruthFrameBytes ||
-      truth_frames.size() != recording->frame_count()) {
-    throw IoError(truth_dir / "truth_range_f32.bin", std::nullopt,
-                  "frame count differs from truth.json or the recording");
+  if (scenario_name.empty()) {
+    const std::vector<std::uint8_t> bytes = ReadFileBytes(truth_dir / "truth.json");
+    scenario_name = Json::parse(bytes.begin(), bytes.end()).at("scenario").get<std::string>();
   }
   std::optional<DepthModelFile> model;
   if (!model_path.empty()) model = ReadDepthModelJson(model_path);
-  CorrectRangeOptions correct_options;
-  correct_options.roi_only = false;
-  if (model && model->marker_range) correct_options.marker_model = *model->marker_range;
-
-  std::map<std::string, std::vector<float>> before, after;
-  const std::vector<int> picked = EvenSubsample(static_cast<int>(truth_frames.size()), max_frames);
   ProgressBar progress("evaluate depth", quiet || json_out);
-  for (std::size_t n = 0; n < picked.size(); ++n) {
-    const auto i = static_cast<std::size_t>(picked[n]);
-    const AhatFrame frame = recording->ReadFrame(i);
-    Image<float> truth_range(kAhatWidth, kAhatHeight);
-    ranges.ReadAt(i * kTruthFrameBytes,
-                  std::span(reinterpret_cast<std::uint8_t*>(truth_range.data()), kTruthFrameBytes),
-                  "a truth range frame (float32 little-endian)");
-    const Image<int> labels = ObjectLabels(scenario.scene, caster, truth_frames[i], camera);
-    std::optional<Image<float>> corrected;
-    if (model) corrected = CorrectRangeImage(frame, camera, model->model, correct_options);
-    for (int v = 0; v < kAhatHeight; ++v) {
-      for (int u = 0; u < kAhatWidth; ++u) {
-        const int label = labels(u, v);
-        const std::uint16_t measured = frame.range_mm(u, v);
-        if (label < 0 || truth_range(u, v) <= 0.0f || measured == 0) continue;
-        if (!Interior(labels, truth_range, u, v)) continue;
-        const std::string& name = scenario.scene.objects[static_cast<std::size_t>(label)].name;
-        if (corrected && (*corrected)(u, v) <= 0.0f) continue;  // dropped: not in either column
-        before[name].push_back(static_cast<float>(measured) - truth_range(u, v));
-        if (corrected) after[name].push_back((*corrected)(u, v) - truth_range(u, v));
-      }
-    }
-    progress.Update(n + 1, picked.size());
-  }
+  const DepthEvaluation evaluation = EvaluateDepthAgainstTruth(
+      *recording, camera, truth_dir, LoadScenario(scenario_name), model, max_frames,
+      [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
   Json rows = Json::array();
-  for (auto& [name, errors] : before) {
-    const Stats b = Summarise(errors);
-    Json row{{"object", name},
-             {"pixels", b.count},
-             {"before_median_mm", b.median},
-             {"before_iqr_mm", b.q3 - b.q1}};
-    if (model) {
-      const Stats a = Summarise(after[name]);
-      row["after_median_mm"] = a.median;
-      row["after_iqr_mm"] = a.q3 - a.q1;
-      row["reduction_percent"] =
-          b.median != 0.0 ? 100.0 * (1.0 - std::abs(a.median) / std::abs(b.median)) : 0.0;
+  for (const ObjectDepthError& o : evaluation.objects) {
+    Json row{{"object", o.name},
+             {"pixels", o.before.pixels},
+             {"before_median_mm", o.before.median_mm},
+             {"before_iqr_mm", o.before.iqr_mm()}};
+    if (o.after) {
+      row["after_median_mm"] = o.after->median_mm;
+      row["after_iqr_mm"] = o.after->iqr_mm();
+      row["reduction_percent"] = o.reduction_percent;
     }
     rows.push_back(row);
   }
   if (json_out) {
-    std::cout << Json{{"frames", picked.size()},
+    std::cout << Json{{"frames", evaluation.frames},
                       {"model", model ? model->model.Name() : ""},
                       {"objects", rows}}
                      .dump(2)
               << "\n";
     return EXIT_SUCCESS;
   }
-  std::cout << "depth error (measured - true range) [mm], " << picked.size() << " frames\n"
+  std::cout << "depth error (measured - true range) [mm], " << evaluation.frames << " frames\n"
             << std::left << std::setw(22) << "object" << std::right << std::setw(10) << "pixels"
             << std::setw(12) << "before med" << std::setw(8) << "IQR";
   if (model)

@@ -7,39 +7,14 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "marker_frames.hpp"
+#include "marker_tasks.hpp"
 #include "progress.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/io/marker_range_json.hpp"
-#include "tofnav/markers/marker_centre.hpp"
-#include "tofnav/tracking/linear_stage.hpp"
 
 namespace tofnav {
-namespace {
 
 using OrderedJson = nlohmann::ordered_json;
-
-// Splits a recording into stage runs where the structure jumps (a new run starts elsewhere).
-std::vector<std::vector<StageFrame>> SplitRuns(std::vector<StageFrame> frames,
-                                               const ToolGeometry& structure, double jump_mm) {
-  std::vector<std::vector<StageFrame>> runs(1);
-  std::optional<Eigen::Vector3d> last;
-  for (StageFrame& f : frames) {
-    const Points3d centres = MarkerCentres(f.markers, structure.SurfaceToCentreMm());
-    const ToolPoseResult pose = EstimateToolPose(centres, structure);
-    if (pose.ahat_from_tool) {
-      if (last && (pose.ahat_from_tool->translation - *last).norm() > jump_mm &&
-          !runs.back().empty()) {
-        runs.emplace_back();
-      }
-      last = pose.ahat_from_tool->translation;
-    }
-    runs.back().push_back(std::move(f));
-  }
-  return runs;
-}
-
-}  // namespace
 
 int RunFitMarkerError(int argc, char** argv) {
   CLI::App app{
@@ -84,37 +59,25 @@ int RunFitMarkerError(int argc, char** argv) {
   std::vector<MarkerRangeSample> samples;
   OrderedJson runs_json = OrderedJson::array();
   int frames_used = 0;
+  StageSampleOptions sample_options{jump_mm, speed_mm_s, speed_tolerance, stage_options};
   for (const std::filesystem::path& recording : recordings) {
     source_args.recording = recording;
     const MarkerSource source = OpenMarkerSource(source_args);
-    std::vector<StageFrame> frames;
     ProgressBar progress("fit-marker-error " + recording.filename().string(), quiet || json);
-    ForEachFrameMarkers(
-        source, source_args.detection,
-        [&](std::size_t, const AhatFrame& frame, std::vector<DetectedMarker>& markers) {
-          frames.push_back({frame.timestamp_s(), std::move(markers)});
-        },
+    const StageSamples stage = CollectStageSamples(
+        source, source_args.detection, structure, sample_options,
         [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
-    std::vector<std::vector<StageFrame>> runs = SplitRuns(std::move(frames), structure, jump_mm);
-    for (std::size_t r = 0; r < runs.size(); ++r) {
-      OrderedJson run{{"recording", recording.string()}, {"run", r}, {"frames", runs[r].size()}};
-      try {
-        const StageRangeErrorResult stage =
-            MeasureMarkerRangeErrors(runs[r], structure, stage_options);
-        const double speed = stage.line_velocity_mm_per_s.norm();
-        run["frames_used"] = stage.frames_used;
-        run["speed_mm_s"] = speed;
-        run["line_rms_mm"] = stage.line_rms_mm;
-        run["samples"] = stage.samples.size();
-        if (speed_mm_s && std::abs(speed - *speed_mm_s) > speed_tolerance * *speed_mm_s) {
-          run["dropped"] = "fitted speed differs from --speed-mm-s by more than 10 %";
-        } else {
-          samples.insert(samples.end(), stage.samples.begin(), stage.samples.end());
-          frames_used += stage.frames_used;
-        }
-      } catch (const std::invalid_argument& e) {
-        run["dropped"] = e.what();
+    samples.insert(samples.end(), stage.samples.begin(), stage.samples.end());
+    frames_used += stage.frames_used;
+    for (const StageRun& r : stage.runs) {
+      OrderedJson run{{"recording", recording.string()}, {"run", r.run}, {"frames", r.frames}};
+      if (r.speed_mm_s) {
+        run["frames_used"] = r.frames_used;
+        run["speed_mm_s"] = *r.speed_mm_s;
+        run["line_rms_mm"] = *r.line_rms_mm;
+        run["samples"] = r.samples;
       }
+      if (!r.dropped.empty()) run["dropped"] = r.dropped;
       runs_json.push_back(run);
     }
   }

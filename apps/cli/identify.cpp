@@ -1,5 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav identify: patient-specific depth-error model from a sticker recording (Eq. 3-7).
+#include "tofnav/io/identify.hpp"
+
 #include <CLI/CLI.hpp>
 #include <cstdlib>
 #include <iostream>
@@ -8,11 +10,6 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
-#include "tofnav/core/grid3.hpp"
-#include "tofnav/correction/identification.hpp"
-#include "tofnav/correction/initial_pose.hpp"
-#include "tofnav/fusion/marching_cubes.hpp"
-#include "tofnav/fusion/mesh_components.hpp"
 #include "tofnav/io/ahat_recording.hpp"
 #include "tofnav/io/depth_model_json.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
@@ -21,20 +18,6 @@
 #include "tofnav/io/volume_io.hpp"
 
 namespace tofnav {
-namespace {
-
-// The CT skin: HU iso-surface between air and soft tissue, largest component.
-TriangleMesh SkinFromCt(const std::filesystem::path& path, double iso_hu) {
-  CtVolume ct = ReadVolume(path);
-  const Grid3<float> grid(Eigen::Vector3i(ct.nx(), ct.ny(), ct.nz()), std::move(ct.values),
-                          ct.image_from_ijk);
-  GridIsoSurfaceOptions options;
-  options.iso_value = static_cast<float>(iso_hu);
-  options.outside = IsoSurfaceOutside::kBelow;
-  return LargestConnectedComponent(ExtractIsoSurface(grid, options));
-}
-
-}  // namespace
 
 int RunIdentify(int argc, char** argv) {
   CLI::App app{
@@ -95,46 +78,27 @@ int RunIdentify(int argc, char** argv) {
     SetModelParameters(start, start_values);
   }
 
-  std::vector<IdentificationFrame> frames;
-  {
-    const std::vector<int> picked =
-        EvenSubsample(static_cast<int>(recording->frame_count()), max_frames);
-    ProgressBar progress("identify: frames", quiet || json);
-    for (std::size_t i = 0; i < picked.size(); ++i) {
-      const AhatFrame frame = recording->ReadFrame(static_cast<std::size_t>(picked[i]));
-      frames.push_back(PrepareIdentificationFrame(frame, camera, frf.value_or(MarkerRangeModel{}),
-                                                  picked[i], sampling));
-      progress.Update(i + 1, picked.size());
-    }
-  }
   std::optional<SurfaceIndex> skin;
-  if (!ct_path.empty()) skin.emplace(SkinFromCt(ct_path, iso_hu));
+  if (!ct_path.empty()) skin.emplace(SkinIsoSurface(ReadVolume(ct_path), iso_hu));
   if (!skin_path.empty()) skin.emplace(ReadMesh(skin_path));
-  DepthModelFile file;
-  // Stage 1: smoothness only (no CT needed, cheap). Stage 2 (with a skin): both costs from there,
-  // with the skin registered once to head clouds corrected by the stage-1 model.
-  file.model = IdentifyDepthModel(frames, nullptr, start, options);
-  nlohmann::ordered_json registration_report;
-  if (skin) {
-    const double stage1_s = file.model.report.seconds;
-    const InitialPoseResult pose = InitialImageFromAhat(frames, *skin, file.model);
-    const CorrectnessTarget target{&*skin, pose.image_from_ahat};
-    registration_report = {
-        {"reference_frame", frames[static_cast<std::size_t>(pose.reference_frame)].index},
-        {"icp_rmse_mm", pose.registration.icp.rmse_mm},
-        {"icp_inlier_fraction", pose.registration.icp.inlier_fraction}};
-    file.model = IdentifyDepthModel(frames, &target, file.model, options);
-    file.model.report.seconds += stage1_s;
-    if (folds >= 2) {
-      file.model.report.cross_validation =
-          CrossValidateModels(frames, &target, DefaultModelCandidates(), folds, options);
-    }
-  } else if (folds >= 2) {
-    file.model.report.cross_validation =
-        CrossValidateModels(frames, nullptr, DefaultModelCandidates(), folds, options);
-  }
-  file.marker_range = frf;
+  IdentifyRecordingOptions identify;
+  identify.max_frames = max_frames;
+  identify.cross_validate_folds = folds;
+  identify.start = start;
+  identify.sampling = sampling;
+  identify.identification = options;
+  ProgressBar progress("identify: frames", quiet || json);
+  const IdentifyRecordingResult result = IdentifyFromRecording(
+      *recording, camera, frf, skin ? &*skin : nullptr, identify,
+      [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+  const DepthModelFile& file = result.file;
   WriteDepthModelJson(out_path, file);
+  nlohmann::ordered_json registration_report;
+  if (result.reference_frame) {
+    registration_report = {{"reference_frame", *result.reference_frame},
+                           {"icp_rmse_mm", result.icp_rmse_mm},
+                           {"icp_inlier_fraction", result.icp_inlier_fraction}};
+  }
 
   const DepthErrorModel& m = file.model;
   if (json) {

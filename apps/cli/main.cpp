@@ -16,6 +16,8 @@ struct Command {
 };
 
 constexpr Command kCommands[] = {
+    {"demo", "the paper end to end on simulated sessions, with its figures beside ours",
+     tofnav::RunDemo},
     {"info", "describe a recording, calibration, mesh or volume", tofnav::RunInfo},
     {"convert", "re-write a recording as hl2ss RAW/ZDEPTH or StreamRecorder", tofnav::RunConvert},
     {"simulate", "render a scenario into an hl2ss recording plus ground truth",

@@ -5,12 +5,9 @@
 #include <CLI/CLI.hpp>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <nlohmann/json.hpp>
-#include <numbers>
-#include <sstream>
 
 #include "commands.hpp"
 #include "tofnav/io/file.hpp"
@@ -18,6 +15,7 @@
 #include "tofnav/io/marker_range_json.hpp"
 #include "tofnav/io/markups_read.hpp"
 #include "tofnav/io/mesh_io.hpp"
+#include "tofnav/io/navigation_csv.hpp"
 #include "tofnav/io/tool_json.hpp"
 #include "tofnav/io/transform_io.hpp"
 #include "tofnav/stream/hl2ss_client.hpp"
@@ -36,46 +34,6 @@ Rigid3d ReadToolFromImage(const std::filesystem::path& path) {
                              "_from_" + t.source_frame);
   }
   return t.target_from_source;
-}
-
-std::string CsvHeader() {
-  return "timestamp_s,status,reference_status,reference_age_s,markers,"
-         "world_from_image_tx_mm,world_from_image_ty_mm,world_from_image_tz_mm,"
-         "world_from_image_qw,world_from_image_qx,world_from_image_qy,world_from_image_qz,"
-         "trajectory,entry_world_x_mm,entry_world_y_mm,entry_world_z_mm,target_world_x_mm,"
-         "target_world_y_mm,target_world_z_mm,instrument_status,tip_world_x_mm,tip_world_y_mm,"
-         "tip_world_z_mm,tip_to_entry_mm,angle_to_axis_deg,remaining_depth_mm,lateral_offset_mm\n";
-}
-
-std::string CsvRow(const NavigationState& s, const std::vector<Trajectory>& plan) {
-  std::ostringstream row;
-  row.precision(10);
-  const auto xyz = [&](const std::optional<Eigen::Vector3d>& p) {
-    for (int i = 0; i < 3; ++i) row << ',' << (p ? std::to_string((*p)[i]) : "");
-  };
-  row << s.timestamp_s << ',' << ToString(s.status) << ',' << ToString(s.reference_status) << ','
-      << (std::isfinite(s.reference_age_s) ? std::to_string(s.reference_age_s) : "") << ','
-      << s.detected_markers;
-  xyz(s.world_from_image ? std::optional(s.world_from_image->translation) : std::nullopt);
-  const auto q = s.world_from_image ? std::optional(s.world_from_image->rotation) : std::nullopt;
-  for (const double v : {q ? q->w() : 0.0, q ? q->x() : 0.0, q ? q->y() : 0.0, q ? q->z() : 0.0}) {
-    row << ',' << (q ? std::to_string(v) : "");
-  }
-  const auto active = static_cast<std::size_t>(s.active_trajectory);
-  row << ',' << (active < plan.size() ? plan[active].name : "");
-  const bool placed = active < s.plan.size();
-  xyz(placed ? std::optional(s.plan[active].entry_in_world) : std::nullopt);
-  xyz(placed ? std::optional(s.plan[active].target_in_world) : std::nullopt);
-  row << ',' << (s.instrument_status ? ToString(*s.instrument_status) : "");
-  xyz(s.tip_in_world);
-  const auto& g = s.guidance;
-  for (const double v :
-       {g ? g->tip_to_entry_mm : 0.0, g ? g->angle_to_axis_rad * 180.0 / std::numbers::pi : 0.0,
-        g ? g->remaining_depth_mm : 0.0, g ? g->lateral_offset_mm : 0.0}) {
-    row << ',' << (g ? std::to_string(v) : "");
-  }
-  row << '\n';
-  return row.str();
 }
 
 }  // namespace
@@ -169,12 +127,12 @@ int RunNavigate(int argc, char** argv) {
   std::optional<AtomicFileWriter> csv;
   if (!out.empty()) {
     csv.emplace(out);
-    csv->Write(CsvHeader());
+    csv->Write(NavigationCsvHeader());
   }
   const bool status_line = !quiet && ::isatty(STDERR_FILENO) != 0;
   auto last_draw = std::chrono::steady_clock::now() - std::chrono::seconds(1);
   const auto on_state = [&](const NavigationState& s) {
-    if (csv) csv->Write(CsvRow(s, c.plan));
+    if (csv) csv->Write(NavigationCsvRow(s, c.plan));
     const auto now = std::chrono::steady_clock::now();
     if (status_line && now - last_draw > std::chrono::milliseconds(100)) {
       last_draw = now;

@@ -14,11 +14,11 @@
 #include "commands.hpp"
 #include "progress.hpp"
 #include "tofnav/core/require.hpp"
-#include "tofnav/correction/correct_range.hpp"
 #include "tofnav/io/depth_model_json.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/marker_range_json.hpp"
 #include "tofnav/io/mesh_io.hpp"
+#include "tofnav/io/reconstruct_correction.hpp"
 #include "tofnav/io/tool_json.hpp"
 
 namespace tofnav {
@@ -114,17 +114,8 @@ int RunReconstruct(int argc, char** argv) {
     Require(calibration.has_value(), "the recording has no calibration: give --calibration DIR");
   }
   const AhatCamera camera(*calibration);
-  if (!depth_model_path.empty()) {
-    const DepthModelFile file = ReadDepthModelJson(depth_model_path);
-    if (file.marker_range) options.marker_error = *file.marker_range;
-    correct.segmentation.min_range_mm = options.tsdf.min_range_mm;
-    correct.segmentation.max_range_mm = options.tsdf.max_range_mm;
-    correct.segmentation.transition_dilation_px = options.marker_mask_dilation_px;
-    options.correct_range = [model = file.model, correct](const AhatFrame& frame,
-                                                          const AhatCamera& cam) {
-      return CorrectRangeImage(frame, cam, model, correct);
-    };
-  }
+  if (!depth_model_path.empty())
+    UseDepthModel(ReadDepthModelJson(depth_model_path), options, correct);
   if (!marker_error_path.empty())
     options.marker_error = ReadMarkerRangeJson(marker_error_path).model;
   const ToolGeometry tool = ReadToolJson(tool_path);

@@ -9,37 +9,14 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "marker_frames.hpp"
+#include "marker_tasks.hpp"
 #include "progress.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/io/marker_range_json.hpp"
 #include "tofnav/io/tool_poses_io.hpp"
-#include "tofnav/tracking/tool_tracker.hpp"
 
 namespace tofnav {
 namespace {
-
-ToolPoseRecord Record(std::size_t index, const AhatFrame& frame, const ToolGeometry& tool,
-                      const TrackedTool& tracked, const Rigid3d& rig_from_ahat) {
-  ToolPoseRecord r;
-  r.frame = static_cast<std::int64_t>(index);
-  r.host_ticks = frame.host_ticks;
-  r.time_s = frame.timestamp_s();
-  r.tool = tool.name;
-  r.status = tracked.status();
-  r.marker_count = static_cast<int>(tool.markers_in_tool.size());
-  r.ahat_from_tool = tracked.measurement.ahat_from_tool;
-  if (r.ahat_from_tool) {
-    r.markers_used = tracked.measurement.visible_markers;
-    r.fre_mm = tracked.measurement.fre_rms_mm;
-  }
-  r.filtered_ahat_from_tool = tracked.filtered_ahat_from_tool;
-  r.gated = tracked.gated;
-  if (r.best_ahat_from_tool() && frame.world_from_rig) {
-    r.world_from_tool = *frame.world_from_rig * rig_from_ahat * *r.best_ahat_from_tool();
-  }
-  return r;
-}
 
 double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
@@ -84,26 +61,18 @@ int RunTrack(int argc, char** argv) {
   if (!marker_error_path.empty()) model = ReadMarkerRangeJson(marker_error_path).model;
   options.filter_enabled = !no_filter;
   const MarkerSource source = OpenMarkerSource(source_args);
-  ToolTracker tracker(tools, options);
-
-  std::vector<ToolPoseRecord> records;
-  std::vector<std::map<ToolStatus, std::int64_t>> counts(tools.size());
-  std::vector<std::vector<double>> fre(tools.size());
   ProgressBar progress("track", quiet || json);
   const auto start = std::chrono::steady_clock::now();
-  ForEachFrameMarkers(
-      source, source_args.detection,
-      [&](std::size_t index, const AhatFrame& frame, std::vector<DetectedMarker>& markers) {
-        if (!model.empty()) markers = CorrectMarkerRanges(std::move(markers), model);
-        const TrackingFrame tracked = tracker.Track(markers, frame.timestamp_s());
-        for (std::size_t t = 0; t < tools.size(); ++t) {
-          records.push_back(
-              Record(index, frame, tools[t], tracked.tools[t], source.camera->rig_from_ahat()));
-          ++counts[t][records.back().status];
-          if (records.back().ahat_from_tool) fre[t].push_back(records.back().fre_mm);
-        }
-      },
-      [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+  const std::vector<ToolPoseRecord> records =
+      TrackTools(source, source_args.detection, tools, options, model,
+                 [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+  std::vector<std::map<ToolStatus, std::int64_t>> counts(tools.size());
+  std::vector<std::vector<double>> fre(tools.size());
+  for (std::size_t i = 0; i < records.size(); ++i) {
+    const std::size_t t = i % tools.size();
+    ++counts[t][records[i].status];
+    if (records[i].ahat_from_tool) fre[t].push_back(records[i].fre_mm);
+  }
   WriteToolPoses(out_path, records);
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

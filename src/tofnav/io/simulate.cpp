@@ -60,6 +60,32 @@ void WritePatientFiles(const sim::Scenario& s, const std::filesystem::path& out_
   files.emplace_back("plan", kPlanName);
 }
 
+// tools/headframe.json: the headframe tools (HeadframeTools) joined into one rigid tool in the
+// frame of the first, the markers of each mapped by first_from_tool (both share the patient's
+// mount, so the scene poses give it). Type and diameter of the first tool's first marker.
+void WriteHeadframeTool(const sim::Scenario& s, const std::filesystem::path& out_dir,
+                        std::vector<std::pair<std::string, std::string>>& files) {
+  const std::vector<int> parts = HeadframeTools(s);
+  if (parts.empty()) return;
+  const sim::Tool& first = s.scene.tools[static_cast<std::size_t>(parts.front())];
+  ToolGeometry tool;
+  tool.name = kHeadframeToolName;
+  tool.marker_type = first.markers.front().shape == sim::MarkerShape::kDisc ? MarkerType::kDisc
+                                                                            : MarkerType::kSphere;
+  tool.marker_diameter_mm = first.markers.front().diameter_mm;
+  for (const int p : parts) {
+    const sim::Tool& part = s.scene.tools[static_cast<std::size_t>(p)];
+    const Rigid3d first_from_part = first.scene_from_tool.Inverse() * part.scene_from_tool;
+    for (const sim::Marker& m : part.markers)
+      tool.markers_in_tool.push_back(first_from_part * m.centre_in_tool);
+  }
+  tool.Check();
+  const std::string name = std::string(kToolsDir) + "/" + kHeadframeToolName + ".json";
+  std::filesystem::create_directories(out_dir / kToolsDir);
+  WriteToolJson(out_dir / name, tool);
+  files.emplace_back(std::string("tool:") + kHeadframeToolName, name);
+}
+
 // tools/<tool>.json of every scene tool a tracker can use (>= 3 valid markers; a tool failing
 // ToolGeometry::Check, e.g. two stickers, is skipped). Type and diameter of the first marker.
 void WriteToolFiles(const sim::Scenario& s, const std::filesystem::path& out_dir,
@@ -82,6 +108,7 @@ void WriteToolFiles(const sim::Scenario& s, const std::filesystem::path& out_dir
     WriteToolJson(out_dir / name, tool);
     files.emplace_back("tool:" + t.name, name);
   }
+  WriteHeadframeTool(s, out_dir, files);
 }
 
 }  // namespace

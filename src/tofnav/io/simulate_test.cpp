@@ -19,6 +19,8 @@
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/mesh_io.hpp"
+#include "tofnav/io/tool_json.hpp"
+#include "tofnav/io/truth_json.hpp"
 #include "tofnav/io/volume_io.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 #include "tofnav/sim/simulator.hpp"
@@ -209,6 +211,28 @@ void CheckPatientOutputs(const sim::Scenario& s, const std::filesystem::path& di
           RigidNear(RigidFromJson(f.at("ahat_from_objects").at(head)), kExactTol, kExactTol));
     }
   }
+  // tools/headframe.json joins the reference tools in the first one's frame: each part's markers
+  // land where the part's own pose puts them, and headframe_from_image is the first's.
+  const std::vector<int> parts = HeadframeTools(s);
+  if (parts.empty()) return;
+  const ToolGeometry headframe = ReadToolJson(dir / "tools" / "headframe.json");
+  const std::string first = s.scene.tools[static_cast<std::size_t>(parts.front())].name;
+  EXPECT_THAT(RigidFromJson(truth.at("headframe_from_image")),
+              RigidNear(RigidFromJson(truth.at(first + "_from_image")), kExactTol, kExactTol));
+  const Json& f = truth.at("frames").at(0);
+  std::size_t k = 0;
+  for (const int p : parts) {
+    const sim::Tool& part = s.scene.tools[static_cast<std::size_t>(p)];
+    for (const sim::Marker& m : part.markers) {
+      ASSERT_LT(k, headframe.markers_in_tool.size());
+      const Eigen::Vector3d joined =
+          RigidFromJson(f.at("ahat_from_" + first)) * headframe.markers_in_tool[k++];
+      EXPECT_NEAR(
+          (joined - RigidFromJson(f.at("ahat_from_" + part.name)) * m.centre_in_tool).norm(), 0.0,
+          kPoseTolMm);
+    }
+  }
+  EXPECT_EQ(k, headframe.markers_in_tool.size());
 }
 
 class SimulateBuiltin : public ::testing::TestWithParam<std::string> {};

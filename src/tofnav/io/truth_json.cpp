@@ -142,6 +142,12 @@ OrderedJson Header(const sim::Scenario& s, const TruthRunInfo& info) {
       const sim::Tool& tool = s.scene.tools[static_cast<std::size_t>(t)];
       h[tool.name + "_from_image"] = MatrixJson(tool.scene_from_tool.Inverse() * mount_from_image);
     }
+    const std::vector<int> headframe = HeadframeTools(s);
+    if (!headframe.empty()) {  // the joined tool lives in the frame of its first part
+      const sim::Tool& first = s.scene.tools[static_cast<std::size_t>(headframe.front())];
+      h[std::string(kHeadframeToolName) + "_from_image"] =
+          MatrixJson(first.scene_from_tool.Inverse() * mount_from_image);
+    }
   }
   return h;
 }
@@ -174,6 +180,16 @@ void Pretty(const OrderedJson& j, int indent, std::string& out) {
 }
 
 }  // namespace
+
+std::vector<int> HeadframeTools(const sim::Scenario& scenario) {
+  std::vector<int> tools;
+  for (const int t : scenario.ToolsRigidWithPatient()) {
+    const sim::Tool& tool = scenario.scene.tools[static_cast<std::size_t>(t)];
+    if (tool.name.starts_with("reference") && !tool.markers.empty()) tools.push_back(t);
+  }
+  if (tools.size() < 2) tools.clear();
+  return tools;
+}
 
 SimulationTruthWriter::SimulationTruthWriter(const std::filesystem::path& path,
                                              const sim::Scenario& scenario,

@@ -22,6 +22,13 @@ struct TruthRunInfo {
   std::vector<std::pair<std::string, std::string>> files;
 };
 
+/// The joined headframe tool of a scenario: the tools rigid with the patient whose names start
+/// with "reference" (evd-usecase: reference_left and reference_right), in scenario order. The
+/// simulator writes them as one tool, tools/headframe.json, in the frame of the first, and
+/// truth.json carries headframe_from_image (docs/simulator.md). Empty when fewer than two.
+std::vector<int> HeadframeTools(const sim::Scenario& scenario);
+inline constexpr const char* kHeadframeToolName = "headframe";
+
 /// Streams truth.json: the header (conventions, camera, materials, tools with marker geometry,
 /// patient, <tool>_from_image), then one line per frame, then the counts. Atomic: the file
 /// appears on Close(). All matrices are 4 x 4 row-major nested lists, column-vector convention

@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav demo: the paper end to end on simulated sessions of the embedded head, every artefact
+// and DIR/demo.json (docs/demo.md, the contract: DEMO_SCHEMA in docs/demo.md).
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+
+#include "commands.hpp"
+#include "demo_stages.hpp"
+#include "progress.hpp"
+#include "tofnav/io/file.hpp"
+#include "tofnav/io/patient_head.hpp"
+#include "tofnav/report/report.hpp"
+
+namespace tofnav {
+namespace {
+
+constexpr const char* kCraniumCt = "/usr/share/doc/invesalius-examples/examples/Cranium.inv3";
+constexpr const char* kVersion = "0.1.0";  // project(tofnav VERSION ...)
+
+// The frame counts of a run at `scale` (1: the default, <= 90 s on the 2-core machine).
+void ScaleFrames(DemoContext& ctx, double scale) {
+  const auto scaled = [&](double n, double floor) {
+    return static_cast<std::int64_t>(std::max(floor, std::round(n * scale)));
+  };
+  ctx.stage_frames = scaled(160.0, 60.0);    // four stage runs
+  ctx.session_frames = scaled(300.0, 60.0);  // evd-usecase frames
+  ctx.depth_eval_frames = static_cast<int>(scaled(24.0, 6.0));
+}
+
+}  // namespace
+
+DemoJson Acceptance(const std::string& figure, double value, const std::string& op, double limit) {
+  const bool met = op == "<=" ? value <= limit : value >= limit;
+  return {{"figure", figure}, {"value", value}, {"op", op}, {"limit", limit}, {"met", met}};
+}
+
+int RunDemo(int argc, char** argv) {
+  CLI::App app{
+      "The paper end to end on simulated sessions of the embedded head: f_rf, patient-specific "
+      "depth model, reconstruction, registration, tracking and guidance, with the paper's "
+      "figures beside ours (docs/demo.md)",
+      "tofnav demo"};
+  std::filesystem::path out = "tofnav-demo";
+  std::string head;
+  double frames_scale = 1.0;
+  std::uint64_t seed = 1;
+  bool json = false, quiet = false;
+  app.add_option("--out", out, "output folder (created; default ./tofnav-demo)");
+  app.add_option(
+      "--head", head,
+      std::string("patient head: phantom, mesh:<skin.ply> or ct:<volume> (default: ct:") +
+          kCraniumCt + " when installed, else phantom)");
+  app.add_option("--frames-scale", frames_scale,
+                 "scale every stage's frame count (1: 160 stage + 300 session frames; 3+: closer "
+                 "to the paper's 1000-frame sessions, slower)")
+      ->check(CLI::Range(0.05, 20.0));
+  app.add_option("--seed", seed, "random seed of the simulations");
+  app.add_flag("--json", json, "print demo.json to stdout (nothing else on stdout)");
+  app.add_flag("-q,--quiet", quiet, "no progress bars");
+  CLI11_PARSE(app, argc, argv);
+
+  DemoContext ctx;
+  ctx.out = out;
+  ctx.seed = seed;
+  ctx.quiet = quiet || json;
+  ScaleFrames(ctx, frames_scale);
+  ctx.head = !head.empty()                         ? head
+             : std::filesystem::exists(kCraniumCt) ? std::string("ct:") + kCraniumCt
+                                                   : "phantom";
+  std::unique_ptr<ProgressBar> bar;
+  std::string bar_label;
+  ctx.progress = [&](const std::string& label, std::size_t done, std::size_t total) {
+    if (label != bar_label || !bar) {
+      bar = std::make_unique<ProgressBar>("demo: " + label, ctx.quiet);
+      bar_label = label;
+    }
+    bar->Update(done, total);
+  };
+  std::filesystem::create_directories(out);
+  const auto start = std::chrono::steady_clock::now();
+  DemoJson demo{{"format", "tofnav-demo"},
+                {"version", 1},
+                {"tofnav_version", kVersion},
+                {"head", ctx.head},
+                {"seed", seed},
+                {"frames_scale", frames_scale},
+                {"elapsed_s", 0.0},
+                {"stages", DemoJson::object()}};
+  const struct {
+    const char* name;
+    void (*run)(DemoContext&, DemoJson&);
+  } stages[] = {{"marker_error", RunDemoMarkerError},
+                {"session", RunDemoSession},
+                {"depth", RunDemoDepth},
+                {"reconstruction", RunDemoReconstruction},
+                {"registration", RunDemoRegistration},
+                {"tracking", RunDemoTracking},
+                {"guidance", RunDemoGuidance}};
+  bool all_ok = true;
+  for (const auto& s : stages) {
+    DemoJson stage{{"ok", true}, {"error", ""}, {"elapsed_s", 0.0}};
+    const auto stage_start = std::chrono::steady_clock::now();
+    try {
+      if (std::string(s.name) == "session" && !ctx.patient_head) {
+        ctx.patient_head = LoadPatientHead(ctx.head);
+      }
+      s.run(ctx, stage);
+    } catch (const std::exception& e) {
+      stage["ok"] = false;
+      stage["error"] = e.what();
+      all_ok = false;
+    }
+    bar.reset();
+    bar_label.clear();
+    stage["elapsed_s"] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start).count();
+    demo["stages"][s.name] = stage;
+    if (!ctx.quiet) {
+      std::cerr << "demo: " << s.name << (stage["ok"].get<bool>() ? " ok" : " FAILED") << " ("
+                << stage["elapsed_s"].get<double>() << " s)"
+                << (stage["ok"].get<bool>() ? "" : ": " + stage["error"].get<std::string>())
+                << "\n";
+    }
+  }
+  demo["elapsed_s"] =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  demo["paper"] = PaperFigures();
+  WriteFileAtomically(out / "demo.json", demo.dump(2) + "\n");
+  try {
+    WriteHtmlReport(out, out / "report.html");
+  } catch (const std::exception& e) {  // the figures are in demo.json; say why the page is not
+    std::cerr << "tofnav demo: report.html not written: " << e.what() << "\n";
+    all_ok = false;
+  }
+  if (json) {
+    std::cout << demo.dump(2) << "\n";
+  } else {
+    PrintDemoTables(demo);
+    std::cout << "\nartefacts, demo.json and report.html in " << out.string() << "\n";
+  }
+  return all_ok ? EXIT_SUCCESS : EXIT_FAILURE;
+}
+
+}  // namespace tofnav

@@ -1,0 +1,59 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Shared by track, fit-marker-error and demo: tool poses of a recording, stage range errors.
+#pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "marker_frames.hpp"
+#include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/io/tool_poses_io.hpp"
+#include "tofnav/tracking/linear_stage.hpp"
+#include "tofnav/tracking/tool_tracker.hpp"
+
+namespace tofnav {
+
+using Progress = std::function<void(std::size_t, std::size_t)>;
+
+/// One record per frame and tool (docs/tracking.md section 3): markers detected, f_rf applied to
+/// their ranges when `marker_range` is not empty, tracked by one ToolTracker.
+std::vector<ToolPoseRecord> TrackTools(const MarkerSource& source,
+                                       const MarkerDetectionOptions& detection,
+                                       const std::vector<ToolGeometry>& tools,
+                                       const ToolTrackerOptions& options,
+                                       const MarkerRangeModel& marker_range,
+                                       const Progress& progress);
+
+/// One stage run of a recording (split where the structure jumps).
+struct StageRun {
+  std::size_t run = 0;
+  std::size_t frames = 0;
+  int frames_used = 0;
+  std::optional<double> speed_mm_s, line_rms_mm;
+  std::size_t samples = 0;
+  std::string dropped;  // why the run's samples were not used; empty when used
+};
+
+struct StageSamples {
+  std::vector<MarkerRangeSample> samples;
+  int frames_used = 0;
+  std::vector<StageRun> runs;
+};
+
+struct StageSampleOptions {
+  double split_jump_mm = 20.0;       // a larger structure jump between frames starts a new run
+  std::optional<double> speed_mm_s;  // nominal speed: runs more than 10 % off are dropped
+  double speed_tolerance = 0.1;
+  StageRangeErrorOptions stage;
+};
+
+/// Sec. III-A.1 on one recording: detections per frame, runs split, each run's range errors
+/// measured (MeasureMarkerRangeErrors); runs that fail or miss the nominal speed are dropped.
+StageSamples CollectStageSamples(const MarkerSource& source,
+                                 const MarkerDetectionOptions& detection,
+                                 const ToolGeometry& structure, const StageSampleOptions& options,
+                                 const Progress& progress);
+
+}  // namespace tofnav

@@ -1,0 +1,56 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# tofnav demo end to end on the built-in phantom at a small frame scale: one JSON object on
+# stdout, every stage ok, demo.json equal to it, the artefacts present, and each stage's figures
+# within tolerances loose enough for the short run (the full run's acceptance lines are in
+# docs/demo.md). Usage: demo_cli_test.sh TOFNAV
+set -euo pipefail
+tofnav=$1
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+"$tofnav" demo --out "$scratch/demo" --head phantom --frames-scale 0.35 --json >"$scratch/stdout.json"
+/usr/bin/python3 - "$scratch/stdout.json" "$scratch/demo" <<'PY'
+import json, os, sys
+out = json.load(open(sys.argv[1]))  # stdout must be exactly one JSON object
+d = sys.argv[2]
+assert out == json.load(open(os.path.join(d, "demo.json"))), "stdout differs from demo.json"
+assert out["format"] == "tofnav-demo" and out["version"] == 1 and out["head"] == "phantom"
+stages = out["stages"]
+for name in ["marker_error", "session", "depth", "reconstruction", "registration", "tracking",
+             "guidance"]:
+    assert stages[name]["ok"], (name, stages[name]["error"])
+# Artefacts named in demo.json exist.
+for name, stage in stages.items():
+    for key, value in stage.items():
+        if isinstance(value, str) and (key.endswith(("_ply", "_csv", "_json")) or key in ("recording",)):
+            assert os.path.isfile(os.path.join(d, value)), (name, key, value)
+# Tolerances for the short run (frames-scale 0.35), each with its reason:
+FRF_BIAS_MM = 0.3          # issue 4: 0.2 mm on the full stage; 56 frames leave ~0.05 mm noise
+HEAD_AFTER_MM = 0.8        # issue 5: 0.5 mm on 1000 frames; ~100 frames here
+REDUCTION_PCT = 80.0       # issue 5: >= 90 % with the CT
+RECON_MEDIAN_MM = 0.6      # issue 6: 0.3 mm; fewer frames fused, the paper's 0.46 mm
+TRE_MM = 2.0               # issue 7: 1.0 mm given a 0.3 mm reconstruction
+TRACK_RMS_MM = 0.5         # issue 4: 0.25 mm
+ENTRY_MM, ANGLE_DEG = 2.0, 2.0  # issue 8: 1.0 / 1.0 with the true registration; paper 2.09 / 2.97
+s = stages
+assert s["marker_error"]["bias_after_max_abs_mm"] <= FRF_BIAS_MM, s["marker_error"]
+assert s["marker_error"]["bias_after_max_abs_mm"] < s["marker_error"]["bias_before_max_abs_mm"]
+head = [o for o in s["depth"]["objects"] if o["target"]]
+assert len(head) == 1, s["depth"]["objects"]
+assert abs(head[0]["after_median_mm"]) <= HEAD_AFTER_MM, head
+assert head[0]["reduction_percent"] >= REDUCTION_PCT, head
+h = s["depth"]["histogram"]
+assert len(h["bin_edges_mm"]) == len(h["before"]) + 1 == len(h["after"]) + 1
+assert s["reconstruction"]["median_mm"] <= RECON_MEDIAN_MM, s["reconstruction"]
+assert s["registration"]["tre_mm"] <= TRE_MM, s["registration"]
+for t in s["tracking"]["tools"]:
+    if t["name"].startswith("reference"):
+        assert t["position_rms_mm"] <= TRACK_RMS_MM and t["wrong_identities"] == 0, t
+g = s["guidance"]
+assert g["entry_median_mm"] <= ENTRY_MM and g["angle_median_deg"] <= ANGLE_DEG, g
+assert len(g["trajectories"]) == 9, g
+print(f"demo ok in {out['elapsed_s']:.1f} s: f_rf bias {s['marker_error']['bias_after_max_abs_mm']:.3f} mm, "
+      f"head {head[0]['after_median_mm']:.3f} mm ({head[0]['reduction_percent']:.1f} %), "
+      f"reconstruction {s['reconstruction']['median_mm']:.3f} mm, TRE {s['registration']['tre_mm']:.3f} mm, "
+      f"entry {g['entry_median_mm']:.3f} mm, angle {g['angle_median_deg']:.3f} deg")
+PY
