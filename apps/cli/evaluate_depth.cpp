@@ -20,8 +20,10 @@
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/patient_head.hpp"
 #include "tofnav/io/scenario_json.hpp"
 #include "tofnav/sim/raycaster.hpp"
+#include "tofnav/sim/scenario_builtins.hpp"
 
 namespace tofnav {
 namespace {
@@ -98,6 +100,23 @@ Stats Summarise(std::vector<float>& e) {
   return s;
 }
 
+// The scenario that was simulated: --scenario, else truth.json's, with its patient head (a
+// built-in scenario simulated with `--head mesh:...` or `ct:...` has another head object).
+sim::Scenario ScenarioOfTruth(const Json& truth, const std::string& scenario_name) {
+  if (!scenario_name.empty()) return LoadScenario(scenario_name);
+  const auto name = truth.at("scenario").get<std::string>();
+  const std::vector<std::string> builtins = sim::BuiltinScenarioNames();
+  const Json* head = truth.contains("patient") && truth["patient"].contains("head")
+                         ? &truth["patient"]["head"]
+                         : nullptr;
+  if (head == nullptr || !head->is_string() || head->get<std::string>() == "phantom" ||
+      std::find(builtins.begin(), builtins.end(), name) == builtins.end()) {
+    return LoadScenario(name);
+  }
+  const sim::PatientHead patient_head = LoadPatientHead(head->get<std::string>());
+  return sim::BuiltinScenario(name, &patient_head);
+}
+
 }  // namespace
 
 int RunEvaluateDepth(int argc, char** argv) {
@@ -128,8 +147,7 @@ int RunEvaluateDepth(int argc, char** argv) {
   std::ifstream truth_file(truth_dir / "truth.json");
   if (!truth_file) throw IoError(truth_dir / "truth.json", std::nullopt, "cannot open");
   const Json truth = Json::parse(truth_file);
-  if (scenario_name.empty()) scenario_name = truth.at("scenario").get<std::string>();
-  sim::Scenario scenario = LoadScenario(scenario_name);
+  sim::Scenario scenario = ScenarioOfTruth(truth, scenario_name);
   sim::SceneRaycaster caster(scenario.scene);
   const Json& truth_frames = truth.at("frames");
   const RandomAccessFile ranges(truth_dir / "truth_range_f32.bin");
@@ -144,6 +162,13 @@ int RunEvaluateDepth(int argc, char** argv) {
   correct_options.roi_only = false;
   if (model && model->marker_range) correct_options.marker_model = *model->marker_range;
 
+  // The automatic head region (as identify segments): how much of each object it keeps.
+  const SegmentationOptions roi_options = IdentificationSampling{}.segmentation;
+  std::map<std::string, std::size_t> in_roi;
+  std::string target = "head";  // the object the head model is identified on
+  if (truth.contains("patient") && truth["patient"].contains("object")) {
+    target = truth["patient"]["object"].get<std::string>();
+  }
   std::map<std::string, std::vector<float>> before, after;
   const std::vector<int> picked = EvenSubsample(static_cast<int>(truth_frames.size()), max_frames);
   ProgressBar progress("evaluate depth", quiet || json_out);
@@ -155,6 +180,7 @@ int RunEvaluateDepth(int argc, char** argv) {
                   std::span(reinterpret_cast<std::uint8_t*>(truth_range.data()), kTruthFrameBytes),
                   "a truth range frame (float32 little-endian)");
     const Image<int> labels = ObjectLabels(scenario.scene, caster, truth_frames[i], camera);
+    const FrameSegmentation roi = SegmentFrame(frame, camera, roi_options);
     std::optional<Image<float>> corrected;
     if (model) corrected = CorrectRangeImage(frame, camera, model->model, correct_options);
     for (int v = 0; v < kAhatHeight; ++v) {
@@ -166,6 +192,7 @@ int RunEvaluateDepth(int argc, char** argv) {
         const std::string& name = scenario.scene.objects[static_cast<std::size_t>(label)].name;
         if (corrected && (*corrected)(u, v) <= 0.0f) continue;  // dropped: not in either column
         before[name].push_back(static_cast<float>(measured) - truth_range(u, v));
+        if (roi.labels(u, v) == static_cast<std::uint8_t>(PixelClass::kHead)) ++in_roi[name];
         if (corrected) after[name].push_back((*corrected)(u, v) - truth_range(u, v));
       }
     }
@@ -175,7 +202,11 @@ int RunEvaluateDepth(int argc, char** argv) {
   for (auto& [name, errors] : before) {
     const Stats b = Summarise(errors);
     Json row{{"object", name},
+             {"role", name == target ? "target" : "other"},
              {"pixels", b.count},
+             {"head_region_percent",
+              b.count > 0 ? 100.0 * static_cast<double>(in_roi[name]) / static_cast<double>(b.count)
+                          : 0.0},
              {"before_median_mm", b.median},
              {"before_iqr_mm", b.q3 - b.q1}};
     if (model) {
@@ -190,30 +221,41 @@ int RunEvaluateDepth(int argc, char** argv) {
   if (json_out) {
     std::cout << Json{{"frames", picked.size()},
                       {"model", model ? model->model.Name() : ""},
+                      {"target_object", target},
                       {"objects", rows}}
                      .dump(2)
               << "\n";
     return EXIT_SUCCESS;
   }
-  std::cout << "depth error (measured - true range) [mm], " << picked.size() << " frames\n"
+  std::cout << "depth error (measured - true range) [mm], " << picked.size() << " frames; the "
+            << "model is identified on '" << target << "' (target)\n"
             << std::left << std::setw(22) << "object" << std::right << std::setw(10) << "pixels"
-            << std::setw(12) << "before med" << std::setw(8) << "IQR";
+            << std::setw(8) << "in ROI" << std::setw(12) << "before med" << std::setw(8) << "IQR";
   if (model)
     std::cout << std::setw(12) << "after med" << std::setw(8) << "IQR" << std::setw(11)
               << "reduction";
   std::cout << "\n" << std::fixed << std::setprecision(2);
+  bool others = false;
   for (const Json& r : rows) {
     std::cout << std::left << std::setw(22) << r["object"].get<std::string>() << std::right
-              << std::setw(10) << r["pixels"].get<std::size_t>() << std::setw(12)
-              << r["before_median_mm"].get<double>() << std::setw(8)
-              << r["before_iqr_mm"].get<double>();
+              << std::setw(10) << r["pixels"].get<std::size_t>() << std::setw(7)
+              << std::setprecision(0) << r["head_region_percent"].get<double>() << "%"
+              << std::setprecision(2) << std::setw(12) << r["before_median_mm"].get<double>()
+              << std::setw(8) << r["before_iqr_mm"].get<double>();
     if (model) {
       std::cout << std::setw(12) << r["after_median_mm"].get<double>() << std::setw(8)
                 << r["after_iqr_mm"].get<double>() << std::setw(10)
                 << r["reduction_percent"].get<double>() << "%";
     }
-    std::cout << "\n";
+    const bool target_row = r["role"] == "target";
+    others = others || !target_row;
+    std::cout << (target_row ? "  target" : model ? "  other (*)" : "") << "\n";
   }
+  if (model && others) {
+    std::cout << "(*) not the target's material: the head model is applied to every pixel here "
+                 "for reference only; worse after correction is expected, not a failure\n";
+  }
+  std::cout << "in ROI: share of the object's pixels in the automatic head region (identify's)\n";
   return EXIT_SUCCESS;
 }
 

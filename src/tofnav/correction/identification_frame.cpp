@@ -131,6 +131,10 @@ MarkerPatch MakePatch(const MarkerArea& area, const Image<float>& surface_range,
   if (static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) {
     SetLocalFrame(patch);
     DropOutliers(patch, sampling);
+    if (sampling.incidence_from_patch_surface &&
+        static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) {
+      SetIncidenceFromPatchSurface(patch, DepthErrorModel{});
+    }
   }
   return patch;
 }

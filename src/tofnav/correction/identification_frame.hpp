@@ -54,6 +54,9 @@ struct IdentificationSampling {
   int max_head_points = 500;      // per frame, for the ICP
   /// Outliers (judged on the measured points) lie beyond max(3 x 1.4826 MAD, this) [mm].
   double min_outlier_mm = 1.5;
+  /// theta of the patch neighbours from the cubic surface fitted to them (SetIncidenceFromPatch-
+  /// Surface) instead of per-pixel normals: unbiased by the range noise.
+  bool incidence_from_patch_surface = true;
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
 
