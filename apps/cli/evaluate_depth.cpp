@@ -165,7 +165,7 @@ int RunEvaluateDepth(int argc, char** argv) {
   // The automatic head region (as identify segments): how much of each object it keeps.
   const SegmentationOptions roi_options = IdentificationSampling{}.segmentation;
   std::map<std::string, std::size_t> in_roi;
-  std::string target = "head";  // the object the head model is identified on
+  std::string target;  // the object the head model is identified on (none: no patient)
   if (truth.contains("patient") && truth["patient"].contains("object")) {
     target = truth["patient"]["object"].get<std::string>();
   }
@@ -202,7 +202,9 @@ int RunEvaluateDepth(int argc, char** argv) {
   for (auto& [name, errors] : before) {
     const Stats b = Summarise(errors);
     Json row{{"object", name},
-             {"role", name == target ? "target" : "other"},
+             {"role", target.empty()   ? "object"
+                      : name == target ? "target"
+                                       : "other"},
              {"pixels", b.count},
              {"head_region_percent",
               b.count > 0 ? 100.0 * static_cast<double>(in_roi[name]) / static_cast<double>(b.count)
@@ -227,8 +229,10 @@ int RunEvaluateDepth(int argc, char** argv) {
               << "\n";
     return EXIT_SUCCESS;
   }
-  std::cout << "depth error (measured - true range) [mm], " << picked.size() << " frames; the "
-            << "model is identified on '" << target << "' (target)\n"
+  std::cout << "depth error (measured - true range) [mm], " << picked.size() << " frames"
+            << (target.empty() ? std::string()
+                               : "; the model is identified on '" + target + "' (target)")
+            << "\n"
             << std::left << std::setw(22) << "object" << std::right << std::setw(10) << "pixels"
             << std::setw(8) << "in ROI" << std::setw(12) << "before med" << std::setw(8) << "IQR";
   if (model)
@@ -247,9 +251,12 @@ int RunEvaluateDepth(int argc, char** argv) {
                 << r["after_iqr_mm"].get<double>() << std::setw(10)
                 << r["reduction_percent"].get<double>() << "%";
     }
-    const bool target_row = r["role"] == "target";
-    others = others || !target_row;
-    std::cout << (target_row ? "  target" : model ? "  other (*)" : "") << "\n";
+    const std::string role = r["role"].get<std::string>();
+    others = others || role == "other";
+    std::cout << (role == "target"           ? "  target"
+                  : role == "other" && model ? "  other (*)"
+                                             : "")
+              << "\n";
   }
   if (model && others) {
     std::cout << "(*) not the target's material: the head model is applied to every pixel here "

@@ -102,12 +102,10 @@ int RunIdentify(int argc, char** argv) {
     const std::vector<int> picked =
         EvenSubsample(static_cast<int>(recording->frame_count()), max_frames);
     ProgressBar progress("identify: frames", quiet || json);
-    for (std::size_t i = 0; i < picked.size(); ++i) {
-      const AhatFrame frame = recording->ReadFrame(static_cast<std::size_t>(picked[i]));
-      frames.push_back(PrepareIdentificationFrame(frame, camera, frf.value_or(MarkerRangeModel{}),
-                                                  picked[i], sampling));
-      progress.Update(i + 1, picked.size());
-    }
+    frames = PrepareIdentificationFrames(
+        picked, [&](int i) { return recording->ReadFrame(static_cast<std::size_t>(i)); }, camera,
+        frf.value_or(MarkerRangeModel{}), sampling,
+        [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
   }
   std::optional<SurfaceIndex> skin;
   if (!ct_path.empty()) skin.emplace(SkinFromCt(ct_path, iso_hu));

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "tofnav/core/parallel_for.hpp"
 #include "tofnav/correction/correct_range.hpp"
 #include "tofnav/correction/depth_error_model.hpp"
 #include "tofnav/correction/surface_costs.hpp"
@@ -161,6 +162,28 @@ std::vector<int> EvenSubsample(int count, int max_count) {
     out.push_back(static_cast<int>((static_cast<std::int64_t>(i) * count) / n));
   }
   return out;
+}
+
+std::vector<IdentificationFrame> PrepareIdentificationFrames(
+    std::span<const int> indices, const std::function<AhatFrame(int)>& read,
+    const AhatCamera& camera, const MarkerRangeModel& marker_model,
+    const IdentificationSampling& sampling,
+    const std::function<void(std::size_t, std::size_t)>& progress) {
+  constexpr std::size_t kBatch = 16;
+  std::vector<IdentificationFrame> frames(indices.size());
+  std::vector<AhatFrame> batch;
+  for (std::size_t b = 0; b < indices.size(); b += kBatch) {
+    const std::size_t n = std::min(kBatch, indices.size() - b);
+    batch.resize(n);
+    for (std::size_t k = 0; k < n; ++k) batch[k] = read(indices[b + k]);
+    ParallelFor(0, static_cast<std::int64_t>(n), [&](std::int64_t k) {
+      const std::size_t i = b + static_cast<std::size_t>(k);
+      frames[i] = PrepareIdentificationFrame(batch[static_cast<std::size_t>(k)], camera,
+                                             marker_model, indices[i], sampling);
+    });
+    if (progress) progress(b + n, indices.size());
+  }
+  return frames;
 }
 
 Eigen::Vector3d CorrectedPoint(const SurfaceSample& sample, const DepthErrorModel& model) {
