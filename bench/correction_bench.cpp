@@ -1,11 +1,15 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Identification (Eq. 7, smoothness only) on 1000 frames of the size the CLI extracts.
+// Identification (Eq. 7) on 1000 frames: the solver alone on synthetic patches, and the CLI's
+// whole path from AHAT frames (segmentation, head region, sampling, both stages with the skin).
 #include <benchmark/benchmark.h>
 
 #include <Eigen/Geometry>
 
 #include "correction_test_scenes.hpp"
 #include "tofnav/correction/identification.hpp"
+#include "tofnav/correction/initial_pose.hpp"
+#include "tofnav/sim/scenario_builtins.hpp"
+#include "tofnav/sim/simulator.hpp"
 
 namespace tofnav {
 namespace {
@@ -33,6 +37,54 @@ void BM_IdentifySmoothness1000Frames(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_IdentifySmoothness1000Frames)->Unit(benchmark::kMillisecond)->Iterations(3);
+
+// 40 rendered head-identification frames (the simulator is not timed), cycled to 1000.
+struct RenderedRun {
+  std::vector<AhatFrame> frames;
+  std::unique_ptr<AhatCamera> camera;
+  TriangleMesh skin;
+};
+const RenderedRun& Rendered() {
+  static const RenderedRun run = [] {
+    sim::Scenario scenario = sim::BuiltinScenario("head-identification");
+    scenario.frames = 40;
+    RenderedRun r;
+    r.skin = scenario.scene.objects[static_cast<std::size_t>(scenario.patient->object)].mesh;
+    sim::Simulator simulator(scenario);
+    r.camera = std::make_unique<AhatCamera>(simulator.camera());
+    while (!simulator.done()) r.frames.push_back(simulator.Next().render.frame);
+    return r;
+  }();
+  return run;
+}
+
+// What `tofnav identify --max-frames 1000 [--skin]` does after decoding (default sampling).
+void BM_IdentifyCliPath1000Frames(benchmark::State& state) {
+  const RenderedRun& run = Rendered();
+  const bool with_skin = state.range(0) != 0;
+  const SurfaceIndex skin(run.skin);
+  std::vector<int> indices(1000);
+  for (int i = 0; i < 1000; ++i) indices[static_cast<std::size_t>(i)] = i;
+  for (auto _ : state) {
+    const std::vector<IdentificationFrame> frames = PrepareIdentificationFrames(
+        indices, [&](int i) { return run.frames[static_cast<std::size_t>(i) % run.frames.size()]; },
+        *run.camera, MarkerRangeModel{});
+    DepthErrorModel model = IdentifyDepthModel(frames, nullptr, DepthErrorModel{});
+    if (with_skin) {
+      const InitialPoseResult pose = InitialImageFromAhat(frames, skin, model);
+      const CorrectnessTarget target{&skin, pose.image_from_ahat};
+      model = IdentifyDepthModel(frames, &target, model);
+    }
+    benchmark::DoNotOptimize(model);
+  }
+}
+BENCHMARK(BM_IdentifyCliPath1000Frames)
+    ->Arg(0)
+    ->Arg(1)
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->Repetitions(3)
+    ->UseRealTime();
 
 }  // namespace
 }  // namespace tofnav

@@ -57,6 +57,8 @@ expect_failure "calibration folder" evaluate depth "$scratch/random.bin" --truth
 expect_failure "HL2SSV23" reconstruct "$scratch/random.bin" --tool "$scratch/none.json" \
   --out "$scratch/s.ply" --calibration "$scratch"
 expect_failure "--roi" reconstruct "$scratch/random.bin" --tool t.json --out s.ply --roi 1,2,3
+expect_failure "--head-region" reconstruct "$scratch/random.bin" --tool t.json --out s.ply \
+  --head-region maybe
 expect_failure "short.ply" evaluate reconstruction "$scratch/short.ply" --truth "$scratch"
 printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$scratch/tri.ply"
 expect_failure "truth.json" evaluate reconstruction "$scratch/tri.ply" --truth "$scratch"

@@ -132,6 +132,9 @@ RunResult SimulateReconstructEvaluate(const std::string& scenario, bool twice = 
   std::string reconstruct = cli + " reconstruct " + (dir / "rm_depth_ahat.bin").string() +
                             " --calibration " + (dir / "calibration").string() + " --tool " +
                             tool.string() + " --json";
+  // Test shapes down to 20 mm on a platform: not a head (the automatic head region would keep
+  // only the large non-flat ones).
+  if (scenario.find("shapes") != std::string::npos) reconstruct += " --head-region off";
   if (!model_material.empty()) {
     reconstruct += " --depth-model " + WriteTrueDepthModel(s, model_material, dir).string();
   }

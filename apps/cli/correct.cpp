@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "head_region_option.hpp"
 #include "progress.hpp"
 #include "tofnav/correction/correct_range.hpp"
 #include "tofnav/io/ahat_recording.hpp"
@@ -34,6 +35,7 @@ int RunCorrect(int argc, char** argv) {
   app.add_option("--marker-error", frf_path, "f_rf JSON (default: the model file's)");
   app.add_option("--out", out_path, "corrected .bin recording, or a folder for PLY clouds")
       ->required();
+  AddHeadRegionOption(app, options.segmentation.head_region);
   app.add_option("--roi-radius-mm", options.segmentation.roi_radius_mm,
                  "keep only pixels this close to the markers' centroid (0 = no limit)");
   app.add_flag("--all-pixels", all_pixels, "correct every valid pixel, not only the ROI");

@@ -12,9 +12,8 @@
 #include "progress.hpp"
 #include "tofnav/io/ahat_recording.hpp"
 #include "tofnav/io/depth_evaluate.hpp"
-#include "tofnav/io/file.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/scenario_json.hpp"
+#include "tofnav/io/truth_hits.hpp"
 
 namespace tofnav {
 
@@ -45,20 +44,18 @@ int RunEvaluateDepth(int argc, char** argv) {
   if (calibration_path.empty()) calibration_path = truth_dir / "calibration";
   const AhatCamera camera(ReadHl2ssCalibration(calibration_path));
   const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
-  if (scenario_name.empty()) {
-    const std::vector<std::uint8_t> bytes = ReadFileBytes(truth_dir / "truth.json");
-    scenario_name = Json::parse(bytes.begin(), bytes.end()).at("scenario").get<std::string>();
-  }
   std::optional<DepthModelFile> model;
   if (!model_path.empty()) model = ReadDepthModelJson(model_path);
   ProgressBar progress("evaluate depth", quiet || json_out);
   const DepthEvaluation evaluation = EvaluateDepthAgainstTruth(
-      *recording, camera, truth_dir, LoadScenario(scenario_name), model, max_frames,
-      [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+      *recording, camera, truth_dir, ReadSimulationTruth(truth_dir, scenario_name).scenario, model,
+      max_frames, [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
   Json rows = Json::array();
   for (const ObjectDepthError& o : evaluation.objects) {
     Json row{{"object", o.name},
+             {"role", o.role},
              {"pixels", o.before.pixels},
+             {"head_region_percent", o.head_region_percent},
              {"before_median_mm", o.before.median_mm},
              {"before_iqr_mm", o.before.iqr_mm()}};
     if (o.after) {
@@ -71,30 +68,47 @@ int RunEvaluateDepth(int argc, char** argv) {
   if (json_out) {
     std::cout << Json{{"frames", evaluation.frames},
                       {"model", model ? model->model.Name() : ""},
+                      {"target_object", evaluation.target_object},
                       {"objects", rows}}
                      .dump(2)
               << "\n";
     return EXIT_SUCCESS;
   }
-  std::cout << "depth error (measured - true range) [mm], " << evaluation.frames << " frames\n"
+  const std::string& target = evaluation.target_object;
+  std::cout << "depth error (measured - true range) [mm], " << evaluation.frames << " frames"
+            << (target.empty() ? std::string()
+                               : "; the model is identified on '" + target + "' (target)")
+            << "\n"
             << std::left << std::setw(22) << "object" << std::right << std::setw(10) << "pixels"
-            << std::setw(12) << "before med" << std::setw(8) << "IQR";
+            << std::setw(8) << "in ROI" << std::setw(12) << "before med" << std::setw(8) << "IQR";
   if (model)
     std::cout << std::setw(12) << "after med" << std::setw(8) << "IQR" << std::setw(11)
               << "reduction";
   std::cout << "\n" << std::fixed << std::setprecision(2);
+  bool others = false;
   for (const Json& r : rows) {
     std::cout << std::left << std::setw(22) << r["object"].get<std::string>() << std::right
-              << std::setw(10) << r["pixels"].get<std::size_t>() << std::setw(12)
-              << r["before_median_mm"].get<double>() << std::setw(8)
-              << r["before_iqr_mm"].get<double>();
+              << std::setw(10) << r["pixels"].get<std::size_t>() << std::setw(7)
+              << std::setprecision(0) << r["head_region_percent"].get<double>() << "%"
+              << std::setprecision(2) << std::setw(12) << r["before_median_mm"].get<double>()
+              << std::setw(8) << r["before_iqr_mm"].get<double>();
     if (model) {
       std::cout << std::setw(12) << r["after_median_mm"].get<double>() << std::setw(8)
                 << r["after_iqr_mm"].get<double>() << std::setw(10)
                 << r["reduction_percent"].get<double>() << "%";
     }
-    std::cout << "\n";
+    const std::string role = r["role"].get<std::string>();
+    others = others || role == "other";
+    std::cout << (role == "target"           ? "  target"
+                  : role == "other" && model ? "  other (*)"
+                                             : "")
+              << "\n";
   }
+  if (model && others) {
+    std::cout << "(*) not the target's material: the head model is applied to every pixel here "
+                 "for reference only; worse after correction is expected, not a failure\n";
+  }
+  std::cout << "in ROI: share of the object's pixels in the automatic head region (identify's)\n";
   return EXIT_SUCCESS;
 }
 

@@ -21,7 +21,7 @@
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/io_error.hpp"
 #include "tofnav/io/marker_range_json.hpp"
-#include "truth_hits.hpp"
+#include "tofnav/io/truth_hits.hpp"
 
 namespace tofnav {
 namespace {

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "head_region_option.hpp"
 #include "progress.hpp"
 #include "tofnav/io/ahat_recording.hpp"
 #include "tofnav/io/depth_model_json.hpp"
@@ -51,6 +52,7 @@ int RunIdentify(int argc, char** argv) {
   app.add_option("--cross-validate", folds, "compare the model variants on K held-out blocks");
   app.add_option("--roi-radius-mm", sampling.segmentation.roi_radius_mm,
                  "head ROI around the markers' centroid [mm]");
+  AddHeadRegionOption(app, sampling.segmentation.head_region);
   app.add_option("--transition-px", sampling.segmentation.transition_dilation_px,
                  "transitional band around markers, dropped [px]");
   app.add_option("--patch-radius-mm", sampling.patch_radius_mm,

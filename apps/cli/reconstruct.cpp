@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "head_region_option.hpp"
 #include "progress.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/io/depth_model_json.hpp"
@@ -97,11 +98,13 @@ int RunReconstruct(int argc, char** argv) {
   bool all_markers = false;
   app.add_flag("--all-markers", all_markers,
                "fuse only frames in which every marker of the tool was matched (status ok)");
+  AddHeadRegionOption(app, options.head_region);
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
   CLI11_PARSE(app, argc, argv);
 
   if (!roi.empty()) options.tsdf.roi_in_tool = RoiFromList(roi);
+  correct.segmentation.head_region = options.head_region;
   options.max_frames = max_frames;
   options.largest_component = !all_components;
   options.accept_partially_occluded = !all_markers;

@@ -63,6 +63,7 @@ void SegmentationOptions::Check() const {
   if (transition_dilation_px < 0 || transition_dilation_px > 50) {
     throw std::invalid_argument("SegmentationOptions::transition_dilation_px must be in [0, 50]");
   }
+  head_region.Check();
   if (!(min_range_mm >= 0.0) || !(max_range_mm > min_range_mm) || !(roi_radius_mm >= 0.0)) {
     throw std::invalid_argument("SegmentationOptions: bad range window or roi_radius_mm");
   }
@@ -99,22 +100,44 @@ FrameSegmentation SegmentFrame(const AhatFrame& frame, const AhatCamera& camera,
   }
   MarkTransition(out.labels, options.transition_dilation_px);
 
+  Image<float> surface(w, h, 0.0f);
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      const std::uint16_t code = frame.range_mm(u, v);
+      if (out.labels(u, v) != static_cast<std::uint8_t>(PixelClass::kOutside) ||
+          !ValidRange(code, options) || !camera.IsValid(u, v)) {
+        continue;
+      }
+      surface(u, v) = static_cast<float>(code);
+    }
+  }
+  out.region = SelectHeadRegion(surface, camera, options.head_region);
   Eigen::Vector3d roi_centre = Eigen::Vector3d::Zero();
-  for (const MarkerArea& m : out.markers) roi_centre += m.centroid_in_ahat;
-  const bool use_roi = options.roi_radius_mm > 0.0 && !out.markers.empty();
-  if (use_roi) roi_centre /= static_cast<double>(out.markers.size());
+  bool use_roi = false;
+  if (options.roi_radius_mm > 0.0 && options.head_region.enabled && out.region.pixels > 0) {
+    for (int v = 0; v < h; ++v) {
+      for (int u = 0; u < w; ++u) {
+        if (out.region.mask(u, v) != 0)
+          roi_centre += camera.PixelRay(u, v).cast<double>() * surface(u, v);
+      }
+    }
+    roi_centre /= static_cast<double>(out.region.pixels);
+    use_roi = true;
+  } else if (options.roi_radius_mm > 0.0 && !out.markers.empty()) {
+    for (const MarkerArea& m : out.markers) roi_centre += m.centroid_in_ahat;
+    roi_centre /= static_cast<double>(out.markers.size());
+    use_roi = true;
+  }
   const double roi_sq = options.roi_radius_mm * options.roi_radius_mm;
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
-      std::uint8_t& label = out.labels(u, v);
-      if (label != static_cast<std::uint8_t>(PixelClass::kOutside)) continue;
-      const std::uint16_t code = frame.range_mm(u, v);
-      if (!ValidRange(code, options) || !camera.IsValid(u, v)) continue;
+      if (out.region.mask(u, v) == 0) continue;
       if (use_roi &&
-          (camera.PixelRay(u, v).cast<double>() * code - roi_centre).squaredNorm() > roi_sq) {
+          (camera.PixelRay(u, v).cast<double>() * surface(u, v) - roi_centre).squaredNorm() >
+              roi_sq) {
         continue;
       }
-      label = static_cast<std::uint8_t>(PixelClass::kHead);
+      out.labels(u, v) = static_cast<std::uint8_t>(PixelClass::kHead);
       ++out.head_pixels;
     }
   }

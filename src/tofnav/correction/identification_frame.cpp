@@ -7,6 +7,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "tofnav/core/parallel_for.hpp"
 #include "tofnav/correction/correct_range.hpp"
 #include "tofnav/correction/depth_error_model.hpp"
 #include "tofnav/correction/surface_costs.hpp"
@@ -131,6 +132,10 @@ MarkerPatch MakePatch(const MarkerArea& area, const Image<float>& surface_range,
   if (static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) {
     SetLocalFrame(patch);
     DropOutliers(patch, sampling);
+    if (sampling.incidence_from_patch_surface &&
+        static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) {
+      SetIncidenceFromPatchSurface(patch, DepthErrorModel{});
+    }
   }
   return patch;
 }
@@ -157,6 +162,28 @@ std::vector<int> EvenSubsample(int count, int max_count) {
     out.push_back(static_cast<int>((static_cast<std::int64_t>(i) * count) / n));
   }
   return out;
+}
+
+std::vector<IdentificationFrame> PrepareIdentificationFrames(
+    std::span<const int> indices, const std::function<AhatFrame(int)>& read,
+    const AhatCamera& camera, const MarkerRangeModel& marker_model,
+    const IdentificationSampling& sampling,
+    const std::function<void(std::size_t, std::size_t)>& progress) {
+  constexpr std::size_t kBatch = 16;
+  std::vector<IdentificationFrame> frames(indices.size());
+  std::vector<AhatFrame> batch;
+  for (std::size_t b = 0; b < indices.size(); b += kBatch) {
+    const std::size_t n = std::min(kBatch, indices.size() - b);
+    batch.resize(n);
+    for (std::size_t k = 0; k < n; ++k) batch[k] = read(indices[b + k]);
+    ParallelFor(0, static_cast<std::int64_t>(n), [&](std::int64_t k) {
+      const std::size_t i = b + static_cast<std::size_t>(k);
+      frames[i] = PrepareIdentificationFrame(batch[static_cast<std::size_t>(k)], camera,
+                                             marker_model, indices[i], sampling);
+    });
+    if (progress) progress(b + n, indices.size());
+  }
+  return frames;
 }
 
 Eigen::Vector3d CorrectedPoint(const SurfaceSample& sample, const DepthErrorModel& model) {

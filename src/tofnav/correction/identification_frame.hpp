@@ -3,7 +3,9 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <functional>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "tofnav/core/point_cloud.hpp"
@@ -54,6 +56,9 @@ struct IdentificationSampling {
   int max_head_points = 500;      // per frame, for the ICP
   /// Outliers (judged on the measured points) lie beyond max(3 x 1.4826 MAD, this) [mm].
   double min_outlier_mm = 1.5;
+  /// theta of the patch neighbours from the cubic surface fitted to them (SetIncidenceFromPatch-
+  /// Surface) instead of per-pixel normals: unbiased by the range noise.
+  bool incidence_from_patch_surface = true;
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
 
@@ -62,6 +67,15 @@ struct IdentificationSampling {
 IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const AhatCamera& camera,
                                                const MarkerRangeModel& marker_model, int index,
                                                const IdentificationSampling& sampling = {});
+
+/// PrepareIdentificationFrame of read(indices[i]) for every i: frames read in order on the
+/// calling thread (a recording reader need not be thread-safe), prepared in parallel batches;
+/// progress(done, total) after each batch. The CLI's and the benchmark's path.
+std::vector<IdentificationFrame> PrepareIdentificationFrames(
+    std::span<const int> indices, const std::function<AhatFrame(int)>& read,
+    const AhatCamera& camera, const MarkerRangeModel& marker_model,
+    const IdentificationSampling& sampling = {},
+    const std::function<void(std::size_t, std::size_t)>& progress = {});
 
 /// The corrected point of a sample under `model` (Eq. 4) [mm].
 Eigen::Vector3d CorrectedPoint(const SurfaceSample& sample, const DepthErrorModel& model);

@@ -24,11 +24,8 @@ Eigen::Vector3d ToLocal(const MarkerPatch& patch, const Eigen::Vector3d& point_i
   return local;
 }
 
-}  // namespace
-
-std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErrorModel& model) {
-  std::vector<double> out;
-  if (patch.neighbours.size() < 20 || patch.marker_points.empty()) return out;
+std::optional<CubicBasis> FitPatchCubic(const MarkerPatch& patch, const DepthErrorModel& model) {
+  if (patch.neighbours.size() < 20) return std::nullopt;
   // Normal equations by hand (plain arrays: this is the identification's inner loop).
   std::array<double, 100> ata{};
   BasisArray atb{};
@@ -47,15 +44,43 @@ std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErr
     }
   }
   const Eigen::LDLT<Eigen::Matrix<double, 10, 10>> ldlt(a);
-  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return out;
-  const CubicBasis coefficients = ldlt.solve(Eigen::Map<const CubicBasis>(atb.data()));
+  if (ldlt.info() != Eigen::Success || !(ldlt.rcond() > 1e-12)) return std::nullopt;
+  return ldlt.solve(Eigen::Map<const CubicBasis>(atb.data()));
+}
+
+}  // namespace
+
+std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErrorModel& model) {
+  std::vector<double> out;
+  if (patch.marker_points.empty()) return out;
+  const std::optional<CubicBasis> coefficients = FitPatchCubic(patch, model);
+  if (!coefficients) return out;
   out.reserve(patch.marker_points.size());
   for (const Eigen::Vector3d& m : patch.marker_points) {
     const Eigen::Vector3d p = ToLocal(patch, m);
     const BasisArray b = Basis(p.x(), p.y());
-    out.push_back(p.z() - Eigen::Map<const CubicBasis>(b.data()).dot(coefficients));
+    out.push_back(p.z() - Eigen::Map<const CubicBasis>(b.data()).dot(*coefficients));
   }
   return out;
+}
+
+bool SetIncidenceFromPatchSurface(MarkerPatch& patch, const DepthErrorModel& model) {
+  const std::optional<CubicBasis> c = FitPatchCubic(patch, model);
+  if (!c) return false;
+  const Eigen::Matrix3d ahat_from_local = patch.local_from_ahat.transpose();
+  for (SurfaceSample& s : patch.neighbours) {
+    const Eigen::Vector3d p = ToLocal(patch, CorrectedPoint(s, model));
+    const double x = p.x(), y = p.y();
+    const double fx = (*c)(1) + 2.0 * (*c)(3) * x + (*c)(4) * y + 3.0 * (*c)(6) * x * x +
+                      2.0 * (*c)(7) * x * y + (*c)(8) * y * y;
+    const double fy = (*c)(2) + (*c)(4) * x + 2.0 * (*c)(5) * y + (*c)(7) * x * x +
+                      2.0 * (*c)(8) * x * y + 3.0 * (*c)(9) * y * y;
+    const Eigen::Vector3d n =
+        ahat_from_local * Eigen::Vector3d(-fx / patch.scale_mm, -fy / patch.scale_mm, 1.0);
+    const double cosine = std::abs(n.normalized().dot(s.ray.cast<double>().normalized()));
+    s.incidence_rad = static_cast<float>(std::acos(std::min(1.0, cosine)));
+  }
+  return true;
 }
 
 void CorrectnessOptions::Check() const {

@@ -19,6 +19,13 @@ namespace tofnav {
 /// patch has too few neighbours or the fit is singular.
 std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErrorModel& model);
 
+/// Replaces each neighbour's incidence angle by that of the cubic surface (as in
+/// SmoothnessDistances) fitted to the neighbours corrected with `model`: per-pixel normals of a
+/// noisy range overestimate theta on average (the error of an arccos of a noisy unit vector is
+/// one-sided), which biases C3 and C2 low; the fitted surface averages the noise out. Returns
+/// false (and changes nothing) when the fit is singular.
+bool SetIncidenceFromPatchSurface(MarkerPatch& patch, const DepthErrorModel& model);
+
 /// Eq. (5) of one frame.
 struct CorrectnessOptions {
   IcpOptions icp = [] {

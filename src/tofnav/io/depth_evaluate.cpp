@@ -13,6 +13,7 @@
 #include "tofnav/correction/identification_frame.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/truth_hits.hpp"
 #include "tofnav/sim/raycaster.hpp"
 
 namespace tofnav {
@@ -22,44 +23,6 @@ using Json = nlohmann::json;
 constexpr std::size_t kTruthFrameBytes = 4u * kAhatPixels;
 constexpr int kEdgeMarginPx = 2;      // pixels this close to another object or a marker: mixed
 constexpr double kEdgeJumpMm = 10.0;  // truth range jump that marks a depth edge
-
-Rigid3d MatrixPose(const Json& m) {
-  Eigen::Matrix4d a;
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c)
-      a(r, c) = m.at(static_cast<std::size_t>(r)).at(static_cast<std::size_t>(c)).get<double>();
-  }
-  return Rigid3d(Eigen::Quaterniond(a.topLeftCorner<3, 3>()).normalized(),
-                 a.topRightCorner<3, 1>());
-}
-
-// Object label per pixel (-1: none, -2: marker) from ray casting the scenario at the truth poses.
-Image<int> ObjectLabels(sim::Scene& scene, sim::SceneRaycaster& caster, const Json& frame,
-                        const AhatCamera& camera) {
-  for (sim::SceneObject& o : scene.objects) {
-    o.scene_from_object = MatrixPose(frame.at("ahat_from_objects").at(o.name));
-  }
-  for (sim::Tool& t : scene.tools) t.scene_from_tool = MatrixPose(frame.at("ahat_from_" + t.name));
-  caster.SetPoses(scene, Rigid3d());
-  std::vector<Eigen::Vector3d> rays(kAhatPixels, Eigen::Vector3d::UnitZ());
-  for (int v = 0; v < kAhatHeight; ++v) {
-    for (int u = 0; u < kAhatWidth; ++u) {
-      if (camera.IsValid(u, v))
-        rays[static_cast<std::size_t>(v * kAhatWidth + u)] = camera.PixelRay(u, v).cast<double>();
-    }
-  }
-  std::vector<sim::RayHit> hits(rays.size());
-  caster.Intersect(rays, hits);
-  Image<int> labels(kAhatWidth, kAhatHeight, -1);
-  for (int v = 0; v < kAhatHeight; ++v) {
-    for (int u = 0; u < kAhatWidth; ++u) {
-      const sim::RayHit& h = hits[static_cast<std::size_t>(v * kAhatWidth + u)];
-      if (!camera.IsValid(u, v) || !h.hit()) continue;
-      labels(u, v) = h.object >= 0 ? h.object : -2;
-    }
-  }
-  return labels;
-}
 
 // Interior pixels of an object: same label and no truth depth edge within the margin.
 bool Interior(const Image<int>& labels, const Image<float>& truth, int u, int v) {
@@ -108,6 +71,13 @@ DepthEvaluation EvaluateDepthAgainstTruth(
     throw IoError(truth_dir / "truth_range_f32.bin", std::nullopt,
                   "frame count differs from truth.json or the recording");
   }
+  // The automatic head region (as identify segments): how much of each object it keeps.
+  const SegmentationOptions roi_options = IdentificationSampling{}.segmentation;
+  std::map<std::string, std::size_t> in_roi;
+  std::string target;  // the object the head model is identified on (none: no patient)
+  if (truth.contains("patient") && truth["patient"].contains("object")) {
+    target = truth["patient"]["object"].get<std::string>();
+  }
   CorrectRangeOptions correct_options;
   correct_options.roi_only = false;
   if (model && model->marker_range) correct_options.marker_model = *model->marker_range;
@@ -121,7 +91,8 @@ DepthEvaluation EvaluateDepthAgainstTruth(
     ranges.ReadAt(i * kTruthFrameBytes,
                   std::span(reinterpret_cast<std::uint8_t*>(truth_range.data()), kTruthFrameBytes),
                   "a truth range frame (float32 little-endian)");
-    const Image<int> labels = ObjectLabels(scenario.scene, caster, truth_frames[i], camera);
+    const Image<int> labels = CastTruthHits(scenario.scene, caster, truth_frames[i], camera).object;
+    const FrameSegmentation roi = SegmentFrame(frame, camera, roi_options);
     std::optional<Image<float>> corrected;
     if (model) corrected = CorrectRangeImage(frame, camera, model->model, correct_options);
     for (int v = 0; v < kAhatHeight; ++v) {
@@ -131,7 +102,9 @@ DepthEvaluation EvaluateDepthAgainstTruth(
         if (label < 0 || truth_range(u, v) <= 0.0f || measured == 0) continue;
         if (!Interior(labels, truth_range, u, v)) continue;
         if (corrected && (*corrected)(u, v) <= 0.0f) continue;  // dropped: not in either column
-        ObjectDepthError& o = objects[scenario.scene.objects[static_cast<std::size_t>(label)].name];
+        const std::string& name = scenario.scene.objects[static_cast<std::size_t>(label)].name;
+        ObjectDepthError& o = objects[name];
+        if (roi.labels(u, v) == static_cast<std::uint8_t>(PixelClass::kHead)) ++in_roi[name];
         o.before_mm.push_back(static_cast<float>(measured) - truth_range(u, v));
         if (corrected) o.after_mm.push_back((*corrected)(u, v) - truth_range(u, v));
       }
@@ -140,9 +113,14 @@ DepthEvaluation EvaluateDepthAgainstTruth(
   }
   DepthEvaluation result;
   result.frames = picked.size();
+  result.target_object = target;
   for (auto& [name, o] : objects) {
     o.name = name;
     o.before = Summarise(o.before_mm);
+    o.role = target.empty() ? "object" : name == target ? "target" : "other";
+    o.head_region_percent = o.before.pixels > 0 ? 100.0 * static_cast<double>(in_roi[name]) /
+                                                      static_cast<double>(o.before.pixels)
+                                                : 0.0;
     if (model) {
       o.after = Summarise(o.after_mm);
       o.reduction_percent =

@@ -26,6 +26,10 @@ struct DepthErrorStats {
 
 struct ObjectDepthError {
   std::string name;  // scene object
+  /// "target": the patient's object, the one the head model is identified on; "other": another
+  /// object of a patient scene (the head model applied for reference only); "object": no patient.
+  std::string role;
+  double head_region_percent = 0.0;  // share of its pixels in the automatic head region
   DepthErrorStats before;
   std::optional<DepthErrorStats> after;    // with a depth model
   double reduction_percent = 0.0;          // 100 (1 - |after median| / |before median|)
@@ -34,6 +38,7 @@ struct ObjectDepthError {
 
 struct DepthEvaluation {
   std::size_t frames = 0;
+  std::string target_object;              // truth.json's patient object; empty without a patient
   std::vector<ObjectDepthError> objects;  // by name
 };
 

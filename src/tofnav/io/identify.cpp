@@ -14,16 +14,16 @@ IdentifyRecordingResult IdentifyFromRecording(
     const std::optional<MarkerRangeModel>& marker_range, const SurfaceIndex* skin,
     const IdentifyRecordingOptions& options,
     const std::function<void(std::size_t, std::size_t)>& progress) {
-  std::vector<IdentificationFrame> frames;
   const std::vector<int> picked =
       EvenSubsample(static_cast<int>(recording.frame_count()), options.max_frames);
-  for (std::size_t i = 0; i < picked.size(); ++i) {
-    AhatFrame frame = recording.ReadFrame(static_cast<std::size_t>(picked[i]));
-    if (options.prepare_frame) options.prepare_frame(frame);
-    frames.push_back(PrepareIdentificationFrame(
-        frame, camera, marker_range.value_or(MarkerRangeModel{}), picked[i], options.sampling));
-    if (progress) progress(i + 1, picked.size());
-  }
+  const std::vector<IdentificationFrame> frames = PrepareIdentificationFrames(
+      picked,
+      [&](int i) {
+        AhatFrame frame = recording.ReadFrame(static_cast<std::size_t>(i));
+        if (options.prepare_frame) options.prepare_frame(frame);
+        return frame;
+      },
+      camera, marker_range.value_or(MarkerRangeModel{}), options.sampling, progress);
   IdentifyRecordingResult result;
   // Stage 1: smoothness only (no CT needed, cheap). Stage 2 (with a skin): both costs from there,
   // with the skin registered once to head clouds corrected by the stage-1 model.

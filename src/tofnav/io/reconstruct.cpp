@@ -10,6 +10,7 @@
 
 #include "tofnav/core/parallel_for.hpp"
 #include "tofnav/core/require.hpp"
+#include "tofnav/correction/frame_segmentation.hpp"
 #include "tofnav/fusion/mesh_components.hpp"
 #include "tofnav/tracking/tool_tracker.hpp"
 
@@ -79,6 +80,7 @@ void ReconstructOptions::Check() const {
   tsdf.Check();
   mesh.Check();
   auto_roi.Check();
+  head_region.Check();
   pose.Check();
   if (!marker_error.empty()) marker_error.Check();
   Require(marker_mask_dilation_px >= 0 && marker_mask_dilation_px <= 32,
@@ -115,6 +117,13 @@ std::optional<Eigen::AlignedBox3d> AutomaticRoi(const Image<float>& range_mm,
       }
     }
   }
+  if (cx.empty()) {  // nothing at the centre (e.g. only the head region is left): all points
+    for (const Eigen::Vector3d& p : points) {
+      cx.push_back(p.x());
+      cy.push_back(p.y());
+      cz.push_back(p.z());
+    }
+  }
   if (cx.empty()) return std::nullopt;
   const Eigen::Vector3d centre(Median(cx), Median(cy), Median(cz));
   Eigen::AlignedBox3d box(centre);
@@ -145,6 +154,20 @@ void Prepare(PreparedFrame& p, const AhatCamera& camera, const ReconstructOption
   Require(p.range_mm.width() == camera.width() && p.range_mm.height() == camera.height(),
           "ReconstructSurface: the corrected range image must have the camera's size");
   MaskMarkers(p.frame.ab, detection.ab_threshold, options.marker_mask_dilation_px, p.range_mm);
+  if (options.head_region.enabled) {
+    SegmentationOptions seg;
+    seg.marker_ab_threshold = detection.ab_threshold;
+    seg.transition_dilation_px = options.marker_mask_dilation_px;
+    seg.min_range_mm = options.tsdf.min_range_mm;
+    seg.max_range_mm = options.tsdf.max_range_mm;
+    seg.head_region = options.head_region;
+    const FrameSegmentation head = SegmentFrame(p.frame, camera, seg);
+    for (std::size_t i = 0; i < p.range_mm.size(); ++i) {
+      if (head.labels.data()[i] != static_cast<std::uint8_t>(PixelClass::kHead)) {
+        p.range_mm.data()[i] = 0.0f;
+      }
+    }
+  }
   if (options.ab_weight_reference > 0.0) {
     p.weight = AbWeights(p.frame, options.ab_weight_reference, options.min_ab_weight);
   }

@@ -12,6 +12,7 @@
 
 #include "tofnav/core/image.hpp"
 #include "tofnav/core/triangle_mesh.hpp"
+#include "tofnav/correction/head_region.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/fusion/marching_cubes.hpp"
 #include "tofnav/fusion/tsdf_volume.hpp"
@@ -29,8 +30,10 @@ using RangeCorrection =
 
 /// The automatic region of interest (docs/reconstruction.md): on the first frame whose tool is
 /// ok, the surface point seen by the central window of the image (median of its valid points in
-/// `tool`) is the centre; the box bounds that frame's points within `radius_mm` of the centre,
-/// grown by `margin_mm` on every side (the sides seen later by a turning view).
+/// `tool`; of all its valid points when the window has none) is the centre; the box bounds that
+/// frame's points within `radius_mm` of the centre, grown by `margin_mm` on every side (the sides
+/// seen later by a turning view). With ReconstructOptions::head_region enabled, the frame's range
+/// holds only the head region, so the box bounds the head.
 struct AutoRoiOptions {
   int centre_window_px = 48;  // side of the central pixel window
   double radius_mm = 150.0;   // points farther from the centre are background
@@ -42,6 +45,10 @@ struct ReconstructOptions {
   TsdfOptions tsdf;  // voxel size, truncation, weights; tsdf.roi_in_tool is the ROI when set
   TsdfMeshOptions mesh;
   AutoRoiOptions auto_roi;  // used when tsdf.roi_in_tool is empty
+  /// Automatic head region per frame (correction/head_region.hpp, the one identification uses):
+  /// pixels outside it (headframe board, tool plates, fragments) are not fused. Disable for
+  /// scenes whose objects are small or flat (test shapes on a platform).
+  HeadRegionOptions head_region;
   MarkerDetectionOptions detection;
   ToolPoseOptions pose;
   MarkerRangeModel marker_error;  // f_rf (Eq. 2) for the tool's marker ranges; empty: none

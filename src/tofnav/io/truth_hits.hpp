@@ -21,7 +21,8 @@ struct SimulationTruth {
 };
 
 /// DIR/truth.json and its scenario: `scenario_name` (built-in or file) when not empty, else
-/// truth.json's "scenario". Throws IoError when truth.json cannot be read.
+/// truth.json's "scenario" with the patient head it was simulated with (`ct:`, `mesh:` or the
+/// phantom). Throws IoError when truth.json cannot be read.
 SimulationTruth ReadSimulationTruth(const std::filesystem::path& dir, std::string scenario_name);
 
 /// What each pixel's centre ray hits first.

@@ -1,14 +1,17 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Ray casting a scenario at the poses of one truth.json frame.
-#include "truth_hits.hpp"
+#include "tofnav/io/truth_hits.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <fstream>
 #include <optional>
 #include <vector>
 
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/io/patient_head.hpp"
 #include "tofnav/io/scenario_json.hpp"
+#include "tofnav/sim/scenario_builtins.hpp"
 
 namespace tofnav {
 namespace {
@@ -30,9 +33,29 @@ SimulationTruth ReadSimulationTruth(const std::filesystem::path& dir, std::strin
   std::ifstream file(dir / "truth.json");
   if (!file) throw IoError(dir / "truth.json", std::nullopt, "cannot open");
   SimulationTruth out;
-  out.truth = nlohmann::json::parse(file);
-  if (scenario_name.empty()) scenario_name = out.truth.at("scenario").get<std::string>();
-  out.scenario = LoadScenario(scenario_name);
+  try {
+    out.truth = nlohmann::json::parse(file);
+  } catch (const nlohmann::json::exception& e) {
+    throw IoError(dir / "truth.json", std::nullopt, std::string("not JSON: ") + e.what());
+  }
+  if (!scenario_name.empty()) {
+    out.scenario = LoadScenario(scenario_name);
+    return out;
+  }
+  // A built-in scenario simulated with `--head mesh:...` or `ct:...` has another head object.
+  const nlohmann::json& truth = out.truth;
+  scenario_name = truth.at("scenario").get<std::string>();
+  const nlohmann::json* head = truth.contains("patient") && truth["patient"].contains("head")
+                                   ? &truth["patient"]["head"]
+                                   : nullptr;
+  const std::vector<std::string> builtins = sim::BuiltinScenarioNames();
+  if (head == nullptr || !head->is_string() || head->get<std::string>() == "phantom" ||
+      std::find(builtins.begin(), builtins.end(), scenario_name) == builtins.end()) {
+    out.scenario = LoadScenario(scenario_name);
+  } else {
+    const sim::PatientHead patient_head = LoadPatientHead(head->get<std::string>());
+    out.scenario = sim::BuiltinScenario(scenario_name, &patient_head);
+  }
   return out;
 }
 
