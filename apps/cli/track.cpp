@@ -7,6 +7,7 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "commands.hpp"
 #include "marker_frames.hpp"
@@ -41,6 +42,11 @@ ToolPoseRecord Record(std::size_t index, const AhatFrame& frame, const ToolGeome
   return r;
 }
 
+std::optional<Rigid3d> WorldFromAhat(const AhatFrame& frame, const AhatCamera& camera) {
+  if (!frame.world_from_rig) return std::nullopt;
+  return *frame.world_from_rig * camera.rig_from_ahat();
+}
+
 double Median(std::vector<double> v) {
   if (v.empty()) return 0.0;
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
@@ -57,7 +63,7 @@ int RunTrack(int argc, char** argv) {
   MarkerSourceArgs source_args;
   std::vector<std::filesystem::path> tool_paths;
   std::filesystem::path marker_error_path, out_path;
-  bool no_filter = false, quiet = false, json = false;
+  bool no_filter = false, ahat_filter = false, quiet = false, json = false;
   ToolTrackerOptions options;
   source_args.AddTo(app);
   app.add_option("--tool", tool_paths, "tool file (tool JSON or NDI .rom); repeat per tool")
@@ -66,6 +72,8 @@ int RunTrack(int argc, char** argv) {
                  "f_rf curve (tofnav fit-marker-error) applied to marker ranges (Eq. 2)");
   app.add_option("--out", out_path, "poses file: .csv or .json")->required();
   app.add_flag("--no-filter", no_filter, "no pose filter (filtered columns stay empty)");
+  app.add_flag("--ahat-filter", ahat_filter,
+               "filter the orientation in ahat even when frames carry a rig pose");
   app.add_option("--max-fre", options.pose.max_fre_mm, "FRE acceptance [mm] (default 1.0)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
@@ -83,6 +91,7 @@ int RunTrack(int argc, char** argv) {
   MarkerRangeModel model;
   if (!marker_error_path.empty()) model = ReadMarkerRangeJson(marker_error_path).model;
   options.filter_enabled = !no_filter;
+  options.rotation_in_world = !ahat_filter;
   const MarkerSource source = OpenMarkerSource(source_args);
   ToolTracker tracker(tools, options);
 
@@ -95,7 +104,8 @@ int RunTrack(int argc, char** argv) {
       source, source_args.detection,
       [&](std::size_t index, const AhatFrame& frame, std::vector<DetectedMarker>& markers) {
         if (!model.empty()) markers = CorrectMarkerRanges(std::move(markers), model);
-        const TrackingFrame tracked = tracker.Track(markers, frame.timestamp_s());
+        const TrackingFrame tracked =
+            tracker.Track(markers, frame.timestamp_s(), WorldFromAhat(frame, *source.camera));
         for (std::size_t t = 0; t < tools.size(); ++t) {
           records.push_back(
               Record(index, frame, tools[t], tracked.tools[t], source.camera->rig_from_ahat()));
