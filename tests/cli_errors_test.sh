@@ -54,6 +54,10 @@ expect_failure "model.json" correct "$scratch/random.bin" --calibration "$scratc
   --depth-model "$scratch/model.json" --out "$scratch/c.bin"
 expect_failure "calibration folder" evaluate depth "$scratch/random.bin" --truth "$scratch" \
   --calibration "$scratch"
+expect_failure "calibration folder" evaluate materials "$scratch/random.bin" --truth "$scratch" \
+  --calibration "$scratch"
+expect_failure "--angle-bin-deg" evaluate materials "$scratch/random.bin" --truth "$scratch" \
+  --angle-bin-deg 0
 expect_failure "HL2SSV23" reconstruct "$scratch/random.bin" --tool "$scratch/none.json" \
   --out "$scratch/s.ply" --calibration "$scratch"
 expect_failure "--roi" reconstruct "$scratch/random.bin" --tool t.json --out s.ply --roi 1,2,3

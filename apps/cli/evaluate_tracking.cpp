@@ -34,6 +34,7 @@ OrderedJson EvaluationJson(const std::string& name, const ToolEvaluation& e) {
                 {"raw", StatsJson(e.raw)},
                 {"filtered", StatsJson(e.filtered)},
                 {"raw_fully_visible", StatsJson(e.raw_fully_visible)},
+                {"filtered_fully_visible", StatsJson(e.filtered_fully_visible)},
                 {"static_frames", e.static_frames},
                 {"jitter_raw_mm", e.jitter_raw_mm ? OrderedJson(*e.jitter_raw_mm) : OrderedJson()},
                 {"jitter_filtered_mm",
@@ -60,6 +61,8 @@ void PrintText(const std::string& name, const ToolEvaluation& e) {
             << e.raw.rms_deg << " max " << e.raw.max_deg << " deg\n"
             << "  raw, fully visible frames: position RMS " << e.raw_fully_visible.rms_mm
             << " mm, rotation RMS " << e.raw_fully_visible.rms_deg << " deg\n"
+            << "  filtered, fully visible frames: position RMS " << e.filtered_fully_visible.rms_mm
+            << " mm, rotation RMS " << e.filtered_fully_visible.rms_deg << " deg\n"
             << "  filtered position median " << e.filtered.median_mm << " RMS " << e.filtered.rms_mm
             << " max " << e.filtered.max_mm << " mm; rotation median " << e.filtered.median_deg
             << " RMS " << e.filtered.rms_deg << " max " << e.filtered.max_deg << " deg\n"

@@ -32,6 +32,11 @@ ToolPoseRecord Record(std::size_t index, const AhatFrame& frame, const ToolGeome
   return r;
 }
 
+std::optional<Rigid3d> WorldFromAhat(const AhatFrame& frame, const AhatCamera& camera) {
+  if (!frame.world_from_rig) return std::nullopt;
+  return *frame.world_from_rig * camera.rig_from_ahat();
+}
+
 // Splits a recording into stage runs where the structure jumps (a new run starts elsewhere).
 std::vector<std::vector<StageFrame>> SplitRuns(std::vector<StageFrame> frames,
                                                const ToolGeometry& structure, double jump_mm) {
@@ -66,7 +71,8 @@ std::vector<ToolPoseRecord> TrackTools(const MarkerSource& source,
       source, detection,
       [&](std::size_t index, const AhatFrame& frame, std::vector<DetectedMarker>& markers) {
         if (!marker_range.empty()) markers = CorrectMarkerRanges(std::move(markers), marker_range);
-        const TrackingFrame tracked = tracker.Track(markers, frame.timestamp_s());
+        const TrackingFrame tracked =
+            tracker.Track(markers, frame.timestamp_s(), WorldFromAhat(frame, *source.camera));
         for (std::size_t t = 0; t < tools.size(); ++t) {
           records.push_back(
               Record(index, frame, tools[t], tracked.tools[t], source.camera->rig_from_ahat()));

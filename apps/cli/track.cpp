@@ -7,6 +7,7 @@
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <optional>
 
 #include "commands.hpp"
 #include "marker_tasks.hpp"
@@ -34,7 +35,7 @@ int RunTrack(int argc, char** argv) {
   MarkerSourceArgs source_args;
   std::vector<std::filesystem::path> tool_paths;
   std::filesystem::path marker_error_path, out_path;
-  bool no_filter = false, quiet = false, json = false;
+  bool no_filter = false, ahat_filter = false, quiet = false, json = false;
   ToolTrackerOptions options;
   source_args.AddTo(app);
   app.add_option("--tool", tool_paths, "tool file (tool JSON or NDI .rom); repeat per tool")
@@ -43,6 +44,8 @@ int RunTrack(int argc, char** argv) {
                  "f_rf curve (tofnav fit-marker-error) applied to marker ranges (Eq. 2)");
   app.add_option("--out", out_path, "poses file: .csv or .json")->required();
   app.add_flag("--no-filter", no_filter, "no pose filter (filtered columns stay empty)");
+  app.add_flag("--ahat-filter", ahat_filter,
+               "filter the orientation in ahat even when frames carry a rig pose");
   app.add_option("--max-fre", options.pose.max_fre_mm, "FRE acceptance [mm] (default 1.0)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
@@ -60,6 +63,7 @@ int RunTrack(int argc, char** argv) {
   MarkerRangeModel model;
   if (!marker_error_path.empty()) model = ReadMarkerRangeJson(marker_error_path).model;
   options.filter_enabled = !no_filter;
+  options.rotation_in_world = !ahat_filter;
   const MarkerSource source = OpenMarkerSource(source_args);
   ProgressBar progress("track", quiet || json);
   const auto start = std::chrono::steady_clock::now();

@@ -19,17 +19,21 @@ ToolTracker::ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptio
   options.Check();
   for (const ToolGeometry& tool : tools_) tool.Check();
   filters_.assign(tools_.size(), PoseFilter(options.filter));
+  world_filters_.assign(tools_.size(), PoseFilter(options.filter));
   Reset();
 }
 
 void ToolTracker::Reset() {
   for (PoseFilter& f : filters_) f.Reset();
+  for (PoseFilter& f : world_filters_) f.Reset();
   last_pose_.assign(tools_.size(), std::nullopt);
   last_seen_s_.assign(tools_.size(), 0.0);
   missed_.assign(tools_.size(), 0);
 }
 
-TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, double timestamp_s) {
+TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, double timestamp_s,
+                                 const std::optional<Rigid3d>& world_from_ahat) {
+  const bool in_world = options_.filter_enabled && options_.rotation_in_world && world_from_ahat;
   std::vector<std::optional<Rigid3d>> prior(tools_.size());
   for (std::size_t t = 0; t < tools_.size(); ++t) {
     if (options_.filter_enabled) {
@@ -48,6 +52,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
     if (!raw) {
       if (++missed_[t] >= options_.max_missed_frames) {  // a loss: drop the prior and the state
         filters_[t].Reset();
+        world_filters_[t].Reset();
         last_pose_[t].reset();
       }
       frame.tools.push_back(std::move(tracked));
@@ -61,6 +66,16 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       tracked.gated = update.gated;
       tracked.filter_reset = update.reset;
       if (!update.gated) tracked.filtered_ahat_from_tool = update.filtered;
+      if (!in_world) {
+        world_filters_[t].Reset();
+      } else {
+        const PoseFilterUpdate world =
+            world_filters_[t].Update(*world_from_ahat * *raw, timestamp_s);
+        if (!update.gated && !world.gated) {
+          tracked.filtered_ahat_from_tool->rotation =
+              (world_from_ahat->Inverse() * world.filtered).rotation;
+        }
+      }
     }
     frame.tools.push_back(std::move(tracked));
   }

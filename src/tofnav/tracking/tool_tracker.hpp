@@ -16,6 +16,12 @@ struct ToolTrackerOptions {
   ToolPoseOptions pose;
   PoseFilterOptions filter;
   bool filter_enabled = true;
+  /// With the camera's world pose (Track's world_from_ahat), the orientation is filtered in the
+  /// world frame, where a tool fixed to the patient stands still while the head-worn camera turns
+  /// at 10-30 deg/s: the constant-velocity filter then averages the per-frame tilt noise of a
+  /// small tool instead of lagging the head. The position stays filtered in `ahat` (the rig
+  /// pose's jitter would add to it). The filter restarts when the world pose comes or goes.
+  bool rotation_in_world = true;
   int max_missed_frames = 5;  // frames without a pose before the filter and prior are dropped
   void Check() const;         // throws std::invalid_argument naming the bad field
 };
@@ -43,14 +49,17 @@ class ToolTracker {
   /// Throws std::invalid_argument on bad options or a tool that fails ToolGeometry::Check().
   explicit ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptions& options = {});
 
-  TrackingFrame Track(std::span<const DetectedMarker> detections, double timestamp_s);
+  /// `world_from_ahat`: the camera pose of this frame when known (world_from_rig * rig_from_ahat).
+  TrackingFrame Track(std::span<const DetectedMarker> detections, double timestamp_s,
+                      const std::optional<Rigid3d>& world_from_ahat = std::nullopt);
   const std::vector<ToolGeometry>& tools() const { return tools_; }
   void Reset();
 
  private:
   std::vector<ToolGeometry> tools_;
   ToolTrackerOptions options_;
-  std::vector<PoseFilter> filters_;
+  std::vector<PoseFilter> filters_;                // ahat_from_tool
+  std::vector<PoseFilter> world_filters_;          // world_from_tool, for the orientation
   std::vector<std::optional<Rigid3d>> last_pose_;  // last raw pose (prior when unfiltered)
   std::vector<double> last_seen_s_;
   std::vector<int> missed_;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+#include <cmath>
 #include <random>
 
 #include "matchers.hpp"
@@ -49,6 +51,45 @@ TEST(ToolTracker, TracksTwoToolsAndNeverReportsAStalePose) {
       }
     }
   }
+}
+
+// A tool fixed in the world seen by a camera turning at up to ~30 deg/s (a head-worn display):
+// with the camera's world pose the orientation is filtered where the tool stands still, so the
+// filter averages the per-frame noise instead of lagging the camera.
+TEST(ToolTracker, FiltersTheOrientationInTheWorldWhenTheCameraPoseIsKnown) {
+  constexpr double kMarkerNoiseMm = 0.3;       // per axis, about the raw tilt noise of a small tool
+  constexpr double kMaxWorldToRawRatio = 0.6;  // filtered in world vs raw rotation RMS
+  const Rigid3d world_from_tool = testing::FacingToolPose({0.0, 0.0, 450.0}, 0.3, 0.2);
+  ToolTracker in_world({ReferenceTool()});
+  ToolTrackerOptions ahat_options;
+  ahat_options.rotation_in_world = false;
+  ToolTracker in_ahat({ReferenceTool()}, ahat_options);
+  std::mt19937_64 rng(4);
+  double raw2 = 0.0, world2 = 0.0, ahat2 = 0.0;
+  int n = 0;
+  for (int i = 0; i < 150; ++i) {
+    const double t = i / 45.0;
+    const Rigid3d world_from_ahat(
+        Eigen::Quaterniond(Eigen::AngleAxisd(0.25 * std::sin(2.0 * t), Eigen::Vector3d::UnitY()) *
+                           Eigen::AngleAxisd(0.1 * std::sin(3.1 * t), Eigen::Vector3d::UnitX())),
+        Eigen::Vector3d(30.0 * std::sin(1.3 * t), 0.0, 0.0));
+    const Rigid3d truth = world_from_ahat.Inverse() * world_from_tool;
+    const std::vector<DetectedMarker> d =
+        testing::ToolDetections(ReferenceTool(), truth, kMarkerNoiseMm, rng);
+    const TrackedTool a = in_world.Track(d, t, world_from_ahat).tools[0];
+    const TrackedTool b = in_ahat.Track(d, t, world_from_ahat).tools[0];
+    ASSERT_TRUE(a.measurement.ahat_from_tool.has_value()) << i;
+    // Warm-up; the ahat filter may gate a frame of the turning camera, the world one must not.
+    if (i < 30 || !b.filtered_ahat_from_tool) continue;
+    ASSERT_TRUE(a.filtered_ahat_from_tool.has_value()) << i;
+    raw2 += std::pow(RotationDistanceRad(*a.measurement.ahat_from_tool, truth), 2);
+    world2 += std::pow(RotationDistanceRad(*a.filtered_ahat_from_tool, truth), 2);
+    ahat2 += std::pow(RotationDistanceRad(*b.filtered_ahat_from_tool, truth), 2);
+    ++n;
+  }
+  EXPECT_GE(n, 110);
+  EXPECT_LT(std::sqrt(world2 / n), kMaxWorldToRawRatio * std::sqrt(raw2 / n));
+  EXPECT_LT(world2, ahat2);
 }
 
 TEST(ToolTracker, RejectsInvalidToolsAndWorksWithoutFilter) {

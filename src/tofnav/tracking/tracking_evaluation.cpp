@@ -86,6 +86,7 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
   ToolEvaluation e;
   e.frames = static_cast<int>(frames.size());
   std::vector<double> raw_mm, raw_deg, filtered_mm, filtered_deg, visible_mm, visible_deg;
+  std::vector<double> visible_filtered_mm, visible_filtered_deg;
   std::map<long, std::pair<double, int>> bins;  // bin index -> (sum of bias, count)
   JitterSum raw_jitter, filtered_jitter;
   std::vector<Eigen::Vector3d> raw_run, filtered_run;
@@ -138,6 +139,10 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
     if (f.filtered) {
       filtered_mm.push_back(TranslationDistanceMm(*f.filtered, f.true_ahat_from_tool));
       filtered_deg.push_back(RotationDistanceRad(*f.filtered, f.true_ahat_from_tool) * kRadToDeg);
+      if (f.fully_visible) {
+        visible_filtered_mm.push_back(filtered_mm.back());
+        visible_filtered_deg.push_back(filtered_deg.back());
+      }
       if (run_length > options.jitter_warmup_frames)
         filtered_run.push_back(f.filtered->translation);
     }
@@ -149,6 +154,7 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
   e.raw = Stats(raw_mm, raw_deg);
   e.filtered = Stats(filtered_mm, filtered_deg);
   e.raw_fully_visible = Stats(visible_mm, visible_deg);
+  e.filtered_fully_visible = Stats(visible_filtered_mm, visible_filtered_deg);
   e.jitter_raw_mm = raw_jitter.Value();
   e.jitter_filtered_mm = filtered_jitter.Value();
   for (const auto& [index, sum] : bins) {

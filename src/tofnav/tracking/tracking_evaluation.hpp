@@ -55,7 +55,8 @@ struct ToolEvaluation {
   double tracked_fraction = 0.0;  // tracked_fully_visible / fully_visible_frames (0 when none)
   int wrong_identities = 0;       // raw poses beyond the wrong-identity thresholds
   PoseErrorStats raw, filtered;
-  PoseErrorStats raw_fully_visible;  // raw poses of fully visible frames only
+  PoseErrorStats raw_fully_visible;       // raw poses of fully visible frames only
+  PoseErrorStats filtered_fully_visible;  // filtered poses of fully visible frames only
   /// sqrt(trace(covariance)) of the position over static runs (pooled); nullopt without one.
   std::optional<double> jitter_raw_mm, jitter_filtered_mm;
   int static_frames = 0;  // frames that entered the jitter
