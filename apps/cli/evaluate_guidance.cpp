@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "evaluate.hpp"
+#include "progress.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/markups_read.hpp"
 #include "tofnav/io/reconstruct_evaluate.hpp"
@@ -151,10 +152,11 @@ int RunEvaluateGuidance(int argc, char** argv) {
       "simulation's truth (every trajectory, every placed frame)",
       "tofnav evaluate guidance"};
   std::filesystem::path nav_path, truth_dir, plan_path;
-  bool json = false;
+  bool json = false, quiet = false;
   app.add_option("navigation", nav_path, "per-frame CSV of tofnav navigate --out")->required();
   app.add_option("--truth", truth_dir, "simulation folder (truth.json, plan.mrk.json)")->required();
   app.add_option("--plan", plan_path, "the plan navigate used (default: TRUTH/plan.mrk.json)");
+  app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the figures as JSON");
   CLI11_PARSE(app, argc, argv);
   if (plan_path.empty()) plan_path = truth_dir / "plan.mrk.json";
@@ -166,8 +168,10 @@ int RunEvaluateGuidance(int argc, char** argv) {
   constexpr double kSameFrameS = 1e-4;  // timestamps are 100 ns ticks
   std::vector<double> entry_display, entry_world, direction;
   std::map<std::string, std::vector<double>> entry_by_name, direction_by_name;
-  std::size_t unmatched = 0;
+  std::size_t unmatched = 0, done = 0;
+  ProgressBar progress("evaluate guidance", quiet || json);
   for (const PlacedFrame& p : placed) {
+    progress.Update(++done, placed.size());
     const auto it =
         std::lower_bound(truth.begin(), truth.end(), p.timestamp_s - kSameFrameS,
                          [](const TruthFrame& t, double s) { return t.timestamp_s < s; });
@@ -192,6 +196,7 @@ int RunEvaluateGuidance(int argc, char** argv) {
       direction_by_name[t.name].push_back(d);
     }
   }
+  progress.Finish();
   if (entry_display.empty()) {
     throw std::runtime_error(nav_path.string() + ": no frame matches the truth's timestamps");
   }
