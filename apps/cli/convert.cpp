@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 
 #include "commands.hpp"
@@ -19,7 +20,7 @@ int RunConvert(int argc, char** argv) {
   CLI::App app{"Re-write an AHAT recording in another container", "tofnav convert"};
   std::filesystem::path input_path, output_path, calibration_path;
   std::optional<double> sample_offset_px;
-  bool quiet = false;
+  bool quiet = false, json = false;
   ConvertOptions options;
   const std::map<std::string, RecordingFormat> formats = {
       {"raw", RecordingFormat::kHl2ssRaw},
@@ -36,15 +37,25 @@ int RunConvert(int argc, char** argv) {
   app.add_option("--sample-offset", sample_offset_px,
                  "LUT sample offset of the calibration (0 or 0.5; default: auto rule)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
+  app.add_flag("--json", json, "print the summary as one JSON object");
   CLI11_PARSE(app, argc, argv);
 
   if (!calibration_path.empty()) {
     options.calibration = ReadHl2ssCalibration(calibration_path, sample_offset_px);
   }
-  ProgressBar progress("convert", quiet);
+  ProgressBar progress("convert", quiet || json);
   options.progress = [&](std::size_t done, std::size_t total) { progress.Update(done, total); };
   const ConvertResult result =
       ConvertRecording(*OpenAhatRecording(input_path), output_path, options);
+  progress.Finish();
+  if (json) {
+    const nlohmann::ordered_json summary{{"input", input_path.string()},
+                                         {"output", output_path.string()},
+                                         {"frames_written", result.frames_written},
+                                         {"frames_with_pose", result.frames_with_pose}};
+    std::cout << summary.dump(2) << "\n";
+    return EXIT_SUCCESS;
+  }
   std::cout << "wrote " << result.frames_written << " frames (" << result.frames_with_pose
             << " with pose) to " << output_path.string() << "\n";
   return EXIT_SUCCESS;

@@ -30,10 +30,11 @@ int RunEvaluateGuidance(int argc, char** argv) {
       "simulation's truth (every trajectory, every placed frame)",
       "tofnav evaluate guidance"};
   std::filesystem::path nav_path, truth_dir, plan_path;
-  bool json = false;
+  bool json = false, quiet = false;
   app.add_option("navigation", nav_path, "per-frame CSV of tofnav navigate --out")->required();
   app.add_option("--truth", truth_dir, "simulation folder (truth.json, plan.mrk.json)")->required();
   app.add_option("--plan", plan_path, "the plan navigate used (default: TRUTH/plan.mrk.json)");
+  app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the figures as JSON");
   CLI11_PARSE(app, argc, argv);
   if (plan_path.empty()) plan_path = truth_dir / "plan.mrk.json";

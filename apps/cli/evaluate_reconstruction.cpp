@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "evaluate.hpp"
+#include "progress.hpp"
 #include "tofnav/io/mesh_io.hpp"
 #include "tofnav/io/reconstruct_evaluate.hpp"
 
@@ -82,7 +83,7 @@ int RunEvaluateReconstruction(int argc, char** argv) {
       "tofnav evaluate reconstruction"};
   std::filesystem::path surface_path, truth_dir, scenario_file, colored_path;
   std::string tool_name;
-  bool json = false;
+  bool json = false, quiet = false;
   EvaluateReconstructionOptions options;
   app.add_option("surface", surface_path, "reconstructed surface (.ply/.stl/.obj, tool frame)")
       ->required();
@@ -95,13 +96,21 @@ int RunEvaluateReconstruction(int argc, char** argv) {
   app.add_option("--colored", colored_path, "write the surface coloured by |error| (PLY)");
   app.add_option("--color-scale-mm", options.color_scale_mm, "|error| shown red")
       ->capture_default_str();
+  app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the result as one JSON object");
   CLI11_PARSE(app, argc, argv);
 
+  // Three steps (read the surface, read the truth, evaluate): no finer progress is reported.
+  ProgressBar progress("evaluate reconstruction", quiet || json);
+  progress.Update(0, 3);
   const TriangleMesh surface = ReadMesh(surface_path);
+  progress.Update(1, 3);
   const std::vector<TruthSurface> truth = ReadTruthSurfaces(truth_dir, tool_name, scenario_file);
+  progress.Update(2, 3);
   const ReconstructionEvaluation e = EvaluateReconstruction(surface, truth, options);
   if (!colored_path.empty()) WriteMesh(colored_path, e.colored);
+  progress.Update(3, 3);
+  progress.Finish();
   if (json) {
     nlohmann::ordered_json objects = nlohmann::ordered_json::array();
     for (const ObjectError& o : e.objects) {

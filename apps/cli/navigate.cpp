@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -129,20 +130,32 @@ int RunNavigate(int argc, char** argv) {
     csv.emplace(out);
     csv->Write(NavigationCsvHeader());
   }
-  const bool status_line = !quiet && ::isatty(STDERR_FILENO) != 0;
+  const bool status_line = !quiet && !json && ::isatty(STDERR_FILENO) != 0;
   auto last_draw = std::chrono::steady_clock::now() - std::chrono::seconds(1);
+  const auto started = std::chrono::steady_clock::now();
+  std::size_t frames_seen = 0;
   const auto on_state = [&](const NavigationState& s) {
     if (csv) csv->Write(NavigationCsvRow(s, c.plan));
+    ++frames_seen;
     const auto now = std::chrono::steady_clock::now();
     if (status_line && now - last_draw > std::chrono::milliseconds(100)) {
       last_draw = now;
       std::string line = NavigationStatusLine(s, c.plan);
       if (server) line += " | clients " + std::to_string(server->stats().clients);
-      std::fprintf(stderr, "\r\033[K%s", line.substr(0, 160).c_str());
+      // Rate, and time left when the run has a set duration (a stream has no frame count).
+      const double elapsed_s = std::chrono::duration<double>(now - started).count();
+      char rate[64];
+      std::snprintf(rate, sizeof rate, " | %zu frames %.1f/s", frames_seen,
+                    elapsed_s > 0.0 ? static_cast<double>(frames_seen) / elapsed_s : 0.0);
+      line += rate;
+      if (duration_s > 0.0) {
+        std::snprintf(rate, sizeof rate, " %.0f s left", std::max(0.0, duration_s - elapsed_s));
+        line += rate;
+      }
+      std::fprintf(stderr, "\r\033[K%s", line.substr(0, 200).c_str());
     }
   };
   std::atomic<bool> stop{false};
-  const auto started = std::chrono::steady_clock::now();
   const auto on_frame = [&](const NavigationState& s) {
     on_state(s);
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - started;

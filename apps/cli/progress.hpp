@@ -18,6 +18,9 @@ class ProgressBar {
 
   /// Redraws at most ten times a second, and always at done == total.
   void Update(std::size_t done, std::size_t total);
+  /// Ends the bar's line (the destructor does it too): call before printing the results, so they
+  /// do not continue the bar's line on a terminal.
+  void Finish();
 
  private:
   std::string label_;

@@ -126,6 +126,7 @@ int RunReconstruct(int argc, char** argv) {
   const ReconstructResult r = ReconstructSurface(
       *recording, camera, tool, options,
       [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+  progress.Finish();
   WriteMesh(out_path, r.mesh);
   const double rate = r.total_s > 0.0 ? static_cast<double>(r.frames_considered) / r.total_s : 0.0;
   const double fuse_ms =

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "progress.hpp"
 #include "tofnav/imaging/skin.hpp"
 #include "tofnav/io/markups_read.hpp"
 #include "tofnav/io/mesh_io.hpp"
@@ -136,7 +137,7 @@ int RunRegister(int argc, char** argv) {
   app.add_option("--max-ambiguity", t.max_ambiguity, "refuse above this cost ratio (0.5)");
   app.add_option("--max-fre", max_fre_mm, "paired points: refuse above this FRE [mm] (2)");
   app.add_flag("--force", force, "write the transform even when refused (status in the JSON)");
-  app.add_flag("-q,--quiet", quiet, "no report");
+  app.add_flag("-q,--quiet", quiet, "no progress bar, no report");
   app.add_flag("--json", json, "print the report as one JSON object");
   CLI11_PARSE(app, argc, argv);
 
@@ -146,6 +147,12 @@ int RunRegister(int argc, char** argv) {
   }
   const std::vector<Trajectory> plan =
       plan_path.empty() ? std::vector<Trajectory>{} : ReadTrajectories(plan_path);
+  // One step per registration (fiducials, surfaces) and one for writing: the library calls
+  // report no finer progress.
+  const std::size_t steps = (fiducials.empty() ? 1u : 2u) + (surfaces ? 1u : 0u);
+  std::size_t done = 0;
+  ProgressBar progress("register", quiet || json);
+  progress.Update(0, steps);
   const auto start = std::chrono::steady_clock::now();
   std::optional<Rigid3d> guess;
   if (!guess_path.empty()) guess = ReadTransform(guess_path).target_from_source;
@@ -154,11 +161,13 @@ int RunRegister(int argc, char** argv) {
     report = RegisterFiducials(ReadMarkupPoints(fiducials[0]), ReadMarkupPoints(fiducials[1]), plan,
                                max_fre_mm, t.max_predicted_tre_mm);
     guess = report.tool_from_image;
+    progress.Update(++done, steps);
   }
   if (surfaces) {
     const double fre_mm = report.figures.value("fre_rms_mm", -1.0);
     report = RegisterSurfaces(reconstruction_path, skin_path, skin_ras, plan, options, guess);
     if (fre_mm >= 0.0) report.figures["start_fiducial_fre_rms_mm"] = fre_mm;
+    progress.Update(++done, steps);
   }
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -174,6 +183,8 @@ int RunRegister(int argc, char** argv) {
     if (!tfm_path.empty()) WriteTransform(tfm_path, transform);
     if (!txt_path.empty()) WriteTransform(txt_path, transform);
   }
+  progress.Update(steps, steps);
+  progress.Finish();
   if (json) {
     nlohmann::ordered_json out{{"method", report.method},
                                {"accepted", report.accepted},

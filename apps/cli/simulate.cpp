@@ -79,6 +79,7 @@ int RunSimulate(int argc, char** argv) {
   const std::string name = scenario.name;
   const auto start = std::chrono::steady_clock::now();
   const SimulateResult result = RunSimulation(std::move(scenario), out_dir, options);
+  progress.Finish();
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double rate = elapsed_s > 0.0 ? static_cast<double>(result.frames) / elapsed_s : 0.0;

@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "progress.hpp"
 #include "tofnav/io/mesh_io.hpp"
 #include "tofnav/io/volume_io.hpp"
 
@@ -39,20 +40,27 @@ int RunSkin(int argc, char** argv) {
                "mesh every component above the threshold (default: the largest only)");
   app.add_flag("--keep-cavities", keep_cavities,
                "do not fill airways and sinuses enclosed in axial slices");
-  app.add_flag("-q,--quiet", quiet, "no summary");
+  app.add_flag("-q,--quiet", quiet, "no progress bar, no summary");
   app.add_flag("--json", json, "print the summary as one JSON object");
   CLI11_PARSE(app, argc, argv);
 
   options.threshold = threshold;
   options.keep_largest_component = !all_components;
   options.fill_cavities = !keep_cavities;
+  // Three steps (read, extract, write): the library calls report no finer progress.
+  ProgressBar progress("skin", quiet || json);
   const auto start = std::chrono::steady_clock::now();
+  progress.Update(0, 3);
   const CtVolume volume = ReadVolume(volume_path);
+  progress.Update(1, 3);
   const auto read = std::chrono::steady_clock::now();
   SkinResult skin = ExtractSkin(volume, options);
+  progress.Update(2, 3);
   const auto extracted = std::chrono::steady_clock::now();
   if (ras) skin.mesh = MeshLpsToRas(skin.mesh);
   WriteMesh(out_path, skin.mesh);
+  progress.Update(3, 3);
+  progress.Finish();
   const double read_s = std::chrono::duration<double>(read - start).count();
   const double extract_s = std::chrono::duration<double>(extracted - read).count();
   if (json) {

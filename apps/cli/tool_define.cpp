@@ -58,6 +58,7 @@ int RunToolDefine(int argc, char** argv) {
             model.empty() ? std::move(markers) : CorrectMarkerRanges(std::move(markers), model);
       },
       [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+  progress.Finish();
   const ToolDefinitionResult result = DefineTool(frames, options);
   const ToolGeometryReport report = AnalyzeToolGeometry(result.tool, others);
   WriteToolJson(out_path, result.tool);

@@ -60,6 +60,16 @@ Eigen::Vector3d VectorFromArray(const ArrayD& vector, const char* name) {
   return {vector.data()[0], vector.data()[1], vector.data()[2]};
 }
 
+std::optional<Eigen::AlignedBox3d> OptionalBoxFromObjects(const py::object& box_min,
+                                                          const py::object& box_max) {
+  if (box_min.is_none() != box_max.is_none()) {
+    throw py::value_error("give both ends of the box (e.g. roi_min and roi_max), or neither");
+  }
+  if (box_min.is_none()) return std::nullopt;
+  return Eigen::AlignedBox3d(VectorFromArray(box_min.cast<ArrayD>(), "box minimum"),
+                             VectorFromArray(box_max.cast<ArrayD>(), "box maximum"));
+}
+
 py::array_t<double> ArrayFromVector(const Eigen::VectorXd& vector) {
   py::array_t<double> array(vector.size());
   std::copy_n(vector.data(), vector.size(), array.mutable_data());

@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <cstdint>
 #include <optional>
 
@@ -31,6 +32,10 @@ std::optional<Rigid3d> OptionalRigidFromObject(const py::object& matrix);
 Points3d PointsFromArray(const ArrayD& points, const char* name);
 py::array_t<double> ArrayFromPoints(const Points3d& points);
 Eigen::Vector3d VectorFromArray(const ArrayD& vector, const char* name);
+/// The box [box_min, box_max] from two (3,) arrays, or nullopt when both are None (ValueError when
+/// only one is).
+std::optional<Eigen::AlignedBox3d> OptionalBoxFromObjects(const py::object& box_min,
+                                                          const py::object& box_max);
 py::array_t<double> ArrayFromVector(const Eigen::VectorXd& vector);
 py::array_t<double> ArrayFromMatrix(const Eigen::MatrixXd& matrix);
 

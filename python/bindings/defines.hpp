@@ -4,6 +4,12 @@
 
 #include <pybind11/pybind11.h>
 
+#include <vector>
+
+namespace tofnav {
+struct FrameResidual;
+}  // namespace tofnav
+
 namespace tofnav::python {
 
 void DefineCore(pybind11::module_& m);      // Mesh, rigid helpers
@@ -14,5 +20,12 @@ void DefineFusion(pybind11::module_& m);    // TsdfVolume
 void DefineRegistration(pybind11::module_& m);
 void DefineIo(pybind11::module_& m);   // recordings, calibration folders, meshes, volumes, tools
 void DefineSim(pybind11::module_& m);  // simulate, builtin_scenarios
+void DefineCorrection(pybind11::module_& m);      // f_rf, DepthErrorModel, normals, CorrectFrame
+void DefineIdentification(pybind11::module_& m);  // IdentifyDepthModel over prepared frames
+void DefineNavigation(pybind11::module_& m);      // Navigator, Guidance
+void DefineReconstruct(pybind11::module_& m);     // reconstruct, depth model and f_rf files
+
+/// Per-frame residuals of an identification as [{frame, err_c_mm, err_s_mm, markers}].
+pybind11::list FrameResidualList(const std::vector<FrameResidual>& frames);
 
 }  // namespace tofnav::python

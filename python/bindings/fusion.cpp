@@ -17,13 +17,7 @@ TsdfVolume MakeTsdf(const AhatCamera& camera, double voxel_size_mm, double trunc
                       .truncation_vox = truncation_vox,
                       .min_range_mm = min_range_mm,
                       .max_range_mm = max_range_mm};
-  if (roi_min.is_none() != roi_max.is_none()) {
-    throw py::value_error("give both roi_min and roi_max, or neither");
-  }
-  if (!roi_min.is_none()) {
-    options.roi_in_tool = Eigen::AlignedBox3d(VectorFromArray(roi_min.cast<ArrayD>(), "roi_min"),
-                                              VectorFromArray(roi_max.cast<ArrayD>(), "roi_max"));
-  }
+  options.roi_in_tool = OptionalBoxFromObjects(roi_min, roi_max);
   return TsdfVolume(options, camera);
 }
 

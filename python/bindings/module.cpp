@@ -24,4 +24,8 @@ PYBIND11_MODULE(_tofnav, m) {
   tofnav::python::DefineRegistration(m);
   tofnav::python::DefineIo(m);
   tofnav::python::DefineSim(m);
+  tofnav::python::DefineCorrection(m);
+  tofnav::python::DefineIdentification(m);
+  tofnav::python::DefineNavigation(m);
+  tofnav::python::DefineReconstruct(m);
 }
