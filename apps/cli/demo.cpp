@@ -27,7 +27,7 @@ void ScaleFrames(DemoContext& ctx, double scale) {
   const auto scaled = [&](double n, double floor) {
     return static_cast<std::int64_t>(std::max(floor, std::round(n * scale)));
   };
-  ctx.stage_frames = scaled(160.0, 60.0);    // four stage runs
+  ctx.stage_frames = scaled(160.0, 80.0);    // four stage runs, >= 20 frames each
   ctx.session_frames = scaled(300.0, 60.0);  // evd-usecase frames
   ctx.depth_eval_frames = static_cast<int>(scaled(24.0, 6.0));
 }
