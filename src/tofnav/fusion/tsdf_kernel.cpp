@@ -151,13 +151,21 @@ std::optional<BlockProjection> InterpolatedProjection(const PixelLookup::Table& 
   }
   const auto [u_min, u_max] = std::minmax_element(u.begin(), u.end());
   const auto [v_min, v_max] = std::minmax_element(v.begin(), v.end());
-  // The kernel reads pixels min(floor(u), width - 2) and the one after.
+  // The kernel reads pixels min(floor(u), width - 2) and the one after. Its u and v are the
+  // corners' interpolation up to rounding: the margin keeps the footprint a bound.
+  constexpr float kMarginPx = 0.01f;
+  const auto first = [](float p, int size) {
+    return std::clamp(static_cast<int>(p - kMarginPx), 0, size - 2);
+  };
+  const auto last = [](float p, int size) {
+    return std::min(static_cast<int>(p + kMarginPx), size - 2) + 1;
+  };
   return BlockProjection{tu,
                          tv,
-                         std::min(static_cast<int>(*u_min), width - 2),
-                         std::min(static_cast<int>(*u_max), width - 2) + 1,
-                         std::min(static_cast<int>(*v_min), height - 2),
-                         std::min(static_cast<int>(*v_max), height - 2) + 1};
+                         first(*u_min, width),
+                         last(*u_max, width),
+                         first(*v_min, height),
+                         last(*v_max, height)};
 }
 
 /// Largest range in the block's pixel footprint; infinity when the footprint is too large to

@@ -158,9 +158,11 @@ std::string SeriesColour(std::size_t i) {
 std::string Cell(double value, int significant) { return FormatNumber(value, significant); }
 
 std::filesystem::path Artefact(const Context& context, const Json& stage, std::string_view key) {
-  const std::string relative = Text(stage, key);
-  if (relative.empty()) throw std::runtime_error("demo.json names no " + std::string(key));
-  return context.dir / relative;
+  const Json& relative = Field(stage, key);
+  if (!relative.is_string() || relative.get<std::string>().empty()) {
+    throw std::runtime_error("demo.json names no " + std::string(key));
+  }
+  return context.dir / relative.get<std::string>();
 }
 
 Csv ReadCsv(const std::filesystem::path& path) {

@@ -107,6 +107,28 @@ TEST(RenderHtmlReport, ShowsWhyAStageDidNotRunAndKeepsTheOthers) {
   EXPECT_FALSE(Contains(html, "<figure id=\"fig-tracking-position\""));
 }
 
+TEST(RenderHtmlReport, SurvivesFieldsOfTheWrongType) {
+  const testing::TempDir dir("report_types");
+  nlohmann::json demo = FixtureJson();
+  demo["head"] = 7;
+  demo["paper"] = "none";
+  demo["stages"]["depth"]["objects"] = 5;
+  demo["stages"]["depth"]["histogram"] = {{"bin_edges_mm", {0, 1, 2}}, {"before", {1}}};
+  demo["stages"]["reconstruction"]["mesh_error_ply"] = 3;
+  demo["stages"]["tracking"]["tools"] = {{{"name", 1}}, "x"};
+  demo["stages"]["tracking"]["error_csv"] = "demo.json";  // no such columns
+  demo["stages"]["guidance"]["ok"] = "yes";
+  demo["stages"]["registration"]["acceptance"] = {{{"met", "no"}}};
+  WriteJson(dir.path(), demo);
+  const std::string html = RenderHtmlReport(dir.path(), kSmall);
+  EXPECT_TRUE(Contains(html, "SvgHistogram: counts do not match the bins"));
+  EXPECT_TRUE(Contains(html, "demo.json names no mesh_error_ply"));
+  EXPECT_TRUE(Contains(html, "CSV has no column"));
+  EXPECT_TRUE(Contains(html, "not run: stage failed (no error given)"));  // guidance
+  EXPECT_TRUE(Contains(html, "skin.ply"));  // the artefacts stay in the fixture: not found here
+  EXPECT_EQ(Count(html, "</section>"), 6);
+}
+
 TEST(WriteHtmlReport, WritesThePage) {
   const testing::TempDir dir("report_write");
   WriteHtmlReport(kFixture, dir.path() / "report.html", kSmall);
