@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav demo: the paper end to end on simulated sessions of the embedded head, every artefact
 // and DIR/demo.json (docs/demo.md, the contract: DEMO_SCHEMA in docs/demo.md).
+#include <unistd.h>
+
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
@@ -27,7 +29,7 @@ void ScaleFrames(DemoContext& ctx, double scale) {
   const auto scaled = [&](double n, double floor) {
     return static_cast<std::int64_t>(std::max(floor, std::round(n * scale)));
   };
-  ctx.stage_frames = scaled(160.0, 60.0);    // four stage runs
+  ctx.stage_frames = scaled(160.0, 80.0);    // four stage runs, >= 20 frames each
   ctx.session_frames = scaled(300.0, 60.0);  // evd-usecase frames
   ctx.depth_eval_frames = static_cast<int>(scaled(24.0, 6.0));
 }
@@ -120,7 +122,7 @@ int RunDemo(int argc, char** argv) {
     stage["elapsed_s"] =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start).count();
     demo["stages"][s.name] = stage;
-    if (!ctx.quiet) {
+    if (!ctx.quiet && ::isatty(STDERR_FILENO) == 1) {  // a line per stage on a terminal
       std::cerr << "demo: " << s.name << (stage["ok"].get<bool>() ? " ok" : " FAILED") << " ("
                 << stage["elapsed_s"].get<double>() << " s)"
                 << (stage["ok"].get<bool>() ? "" : ": " + stage["error"].get<std::string>())

@@ -19,6 +19,8 @@ namespace tofnav {
 namespace {
 
 constexpr double kWorkingFromMm = 300.0, kWorkingToMm = 700.0;  // the paper's working range
+// A run restarts 400 mm back; at the demo's speeds a frame moves up to ~25 mm within a run.
+constexpr double kRunRestartMm = 100.0;
 
 // The built-in stage runs 400 mm at 40 mm/s four times (1800 frames); the demo runs the same
 // travel faster so that `frames` cover all four runs (the simulator has no motion blur).
@@ -73,8 +75,10 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   args.calibration = dir / "calibration";
   const MarkerSource source = OpenMarkerSource(args);
   const ToolGeometry structure = ReadToolFile(dir / "tools" / "tape_structure.json");
+  StageSampleOptions sample_options;
+  sample_options.split_jump_mm = kRunRestartMm;
   const StageSamples samples =
-      CollectStageSamples(source, args.detection, structure, {},
+      CollectStageSamples(source, args.detection, structure, sample_options,
                           [&](std::size_t d, std::size_t t) { ctx.progress("fit f_rf", d, t); });
   if (samples.samples.empty()) throw std::runtime_error("no stage run gave range-error samples");
   const MarkerRangeFitResult fit = FitMarkerRangeModel(samples.samples);
