@@ -142,6 +142,13 @@ void DefineMarkerRange(py::module_& m) {
 }
 
 void DefineOptions(py::module_& m) {
+  OptionsClass<HeadRegionOptions>(m, "HeadRegionOptions",
+                                  "SelectHeadRegion options (enabled = False: the whole frame)")
+      .def_readwrite("enabled", &HeadRegionOptions::enabled)
+      .def_readwrite("plane_tolerance_mm", &HeadRegionOptions::plane_tolerance_mm)
+      .def_readwrite("min_plane_area_mm2", &HeadRegionOptions::min_plane_area_mm2)
+      .def_readwrite("max_planes", &HeadRegionOptions::max_planes)
+      .def_readwrite("min_component_area_mm2", &HeadRegionOptions::min_component_area_mm2);
   OptionsClass<SegmentationOptions>(m, "SegmentationOptions", "SegmentFrame options")
       .def_readwrite("marker_ab_threshold", &SegmentationOptions::marker_ab_threshold)
       .def_readwrite("min_marker_area_px", &SegmentationOptions::min_marker_area_px)
@@ -149,7 +156,8 @@ void DefineOptions(py::module_& m) {
       .def_readwrite("transition_dilation_px", &SegmentationOptions::transition_dilation_px)
       .def_readwrite("min_range_mm", &SegmentationOptions::min_range_mm)
       .def_readwrite("max_range_mm", &SegmentationOptions::max_range_mm)
-      .def_readwrite("roi_radius_mm", &SegmentationOptions::roi_radius_mm);
+      .def_readwrite("roi_radius_mm", &SegmentationOptions::roi_radius_mm)
+      .def_readwrite("head_region", &SegmentationOptions::head_region);
   OptionsClass<RangeNormalOptions>(m, "RangeNormalOptions", "ComputeRangeNormals options")
       .def_readwrite("smoothing_radius_px", &RangeNormalOptions::smoothing_radius_px)
       .def_readwrite("difference_step_px", &RangeNormalOptions::difference_step_px)

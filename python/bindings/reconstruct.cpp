@@ -37,6 +37,7 @@ py::dict Reconstruct(const AhatRecording& recording, const AhatCamera& camera,
     correct.segmentation.min_range_mm = options.tsdf.min_range_mm;
     correct.segmentation.max_range_mm = options.tsdf.max_range_mm;
     correct.segmentation.transition_dilation_px = options.marker_mask_dilation_px;
+    correct.segmentation.head_region = options.head_region;
     options.correct_range = [model = *args.depth_model, correct](const AhatFrame& frame,
                                                                  const AhatCamera& cam) {
       return CorrectRangeImage(frame, cam, model, correct);
@@ -72,7 +73,7 @@ void DefineReconstruct(py::module_& m) {
          double truncation_vox, double min_range_mm, double max_range_mm, py::object roi_min,
          py::object roi_max, std::size_t first_frame, std::size_t frame_step,
          std::optional<std::size_t> max_frames, bool largest_component,
-         bool accept_partially_occluded, double min_weight) {
+         bool accept_partially_occluded, double min_weight, bool head_region) {
         ReconstructOptions options;
         options.tsdf.voxel_size_mm = voxel_size_mm;
         options.tsdf.truncation_vox = truncation_vox;
@@ -84,6 +85,7 @@ void DefineReconstruct(py::module_& m) {
         options.largest_component = largest_component;
         options.accept_partially_occluded = accept_partially_occluded;
         options.mesh.min_weight = min_weight;
+        options.head_region.enabled = head_region;
         return Reconstruct(recording, camera, tool,
                            {std::move(depth_model), std::move(marker_error),
                             std::move(correct_options), std::move(roi_min), std::move(roi_max)},
@@ -96,10 +98,11 @@ void DefineReconstruct(py::module_& m) {
       py::arg("roi_min") = py::none(), py::arg("roi_max") = py::none(), py::arg("first_frame") = 0,
       py::arg("frame_step") = 1, py::arg("max_frames") = py::none(),
       py::arg("largest_component") = true, py::arg("accept_partially_occluded") = true,
-      py::arg("min_weight") = 0.0,
+      py::arg("min_weight") = 0.0, py::arg("head_region") = true,
       "tool-referenced TSDF reconstruction of a recording (ReconstructSurface, as `tofnav "
       "reconstruct`): f_rf on the tool's markers, Eq. (4) on the surface when a depth model is "
-      "given; -> dict with mesh (in tool), roi_min/max, frame counts, blocks, total_s");
+      "given; head_region=False keeps every surface pixel (not a head); -> dict with mesh (in "
+      "tool), roi_min/max, frame counts, blocks, total_s");
   m.def(
       "read_depth_model",
       [](const Path& path) {

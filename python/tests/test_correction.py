@@ -53,12 +53,20 @@ def test_model_inverts_its_bias():
         tofnav.DepthErrorModel(c2=-1.0)  # 1 + C2 must stay > 0
 
 
+def whole_frame():
+    """Head region off: every pixel with a range is surface."""
+    return tofnav.HeadRegionOptions(enabled=False)
+
+
 def test_correct_range_image_recovers_the_true_range(camera):
     model = tofnav.DepthErrorModel(**TRUE_MODEL)
     frame, truth, _, marker = biased_frame(camera, model)
-    result = tofnav.correct_frame(frame, camera, model)
+    # A tilted plane is not a head: the automatic head region (which drops large planes) is off.
+    options = tofnav.CorrectRangeOptions(
+        segmentation=tofnav.SegmentationOptions(head_region=whole_frame()))
+    result = tofnav.correct_frame(frame, camera, model, options)
     corrected = result["range_mm"]
-    assert np.array_equal(corrected, tofnav.correct_range_image(frame, camera, model))
+    assert np.array_equal(corrected, tofnav.correct_range_image(frame, camera, model, options))
     labels = result["labels"]
     assert np.all(corrected[labels == tofnav.PIXEL_TRANSITION] == 0)
     head = (labels == tofnav.PIXEL_HEAD) & (corrected > 0)
@@ -76,7 +84,8 @@ def test_correct_range_image_recovers_the_true_range(camera):
 
 def test_segmentation_finds_marker_transition_and_head(camera):
     frame, _, _, _ = biased_frame(camera, tofnav.DepthErrorModel(**TRUE_MODEL))
-    seg = tofnav.segment_frame(frame, camera, tofnav.SegmentationOptions(roi_radius_mm=60.0))
+    seg = tofnav.segment_frame(frame, camera, tofnav.SegmentationOptions(roi_radius_mm=60.0,
+                                                                        head_region=whole_frame()))
     assert len(seg["markers"]) == 1 and seg["markers"][0]["pixels"].shape == (81, 2)
     u, v = MARKER_UV
     labels = seg["labels"]

@@ -20,7 +20,8 @@ def test_reconstruct_recording_gives_the_board(simulated):
     camera = tofnav.AhatCamera(tofnav.read_hl2ss_calibration(out / "calibration"))
     result = tofnav.reconstruct(recording, camera, tool_from_truth(truth, "ref"),
                                 depth_model=tofnav.DepthErrorModel(),  # zero: Eq. 4 = identity
-                                voxel_size_mm=VOXEL_MM)
+                                voxel_size_mm=VOXEL_MM,
+                                head_region=False)  # a board, not a head
     assert result["frames_considered"] == 3 and result["frames_fused"] == 3
     assert result["roi_automatic"]
     z_error = np.abs(result["mesh"].vertices[:, 2] - BOARD_Z_IN_TOOL_MM)

@@ -12,6 +12,7 @@ from ._tofnav import (  # noqa: F401
     DepthErrorModel,
     Frame,
     Guidance,
+    HeadRegionOptions,
     IdentificationFrame,
     IdentificationOptions,
     IdentificationSampling,
