@@ -30,7 +30,7 @@ void ScaleFrames(DemoContext& ctx, double scale) {
     return static_cast<std::int64_t>(std::max(floor, std::round(n * scale)));
   };
   ctx.stage_frames = scaled(160.0, 80.0);    // four stage runs, >= 20 frames each
-  ctx.session_frames = scaled(300.0, 60.0);  // evd-usecase frames
+  ctx.session_frames = scaled(600.0, 60.0);  // evd-usecase frames
   ctx.depth_eval_frames = static_cast<int>(scaled(24.0, 6.0));
 }
 
@@ -58,7 +58,7 @@ int RunDemo(int argc, char** argv) {
       std::string("patient head: phantom, mesh:<skin.ply> or ct:<volume> (default: ct:") +
           kCraniumCt + " when installed, else phantom)");
   app.add_option("--frames-scale", frames_scale,
-                 "scale every stage's frame count (1: 160 stage + 300 session frames; 3+: closer "
+                 "scale every stage's frame count (1: 160 stage + 600 session frames; 3+: closer "
                  "to the paper's 1000-frame sessions, slower)")
       ->check(CLI::Range(0.05, 20.0));
   app.add_option("--seed", seed, "random seed of the simulations");

@@ -101,12 +101,8 @@ void RunDemoSession(DemoContext& ctx, DemoJson& stage) {
 void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   const SessionFiles s = OpenSession(ctx);
   const SurfaceIndex skin(SkinIsoSurface(ReadVolume(ctx.session_dir / "ct.nrrd")));
-  const ToolGeometry headframe = ReadToolJson(ctx.session_dir / "tools" / "headframe.json");
-  IdentifyRecordingOptions options;
+  IdentifyRecordingOptions options;  // the automatic head region leaves the headframe out
   options.max_frames = static_cast<int>(ctx.session_frames);
-  options.prepare_frame = [&](AhatFrame& frame) {  // TODO(identify branch): library ROI
-    KeepHeadAroundStickers(frame, s.camera, headframe);
-  };
   const IdentifyRecordingResult identified =
       IdentifyFromRecording(*s.recording, s.camera, ctx.frf, &skin, options,
                             [&](std::size_t d, std::size_t t) { ctx.progress("identify", d, t); });
@@ -139,6 +135,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
                                 {"after_median_mm", o.after->median_mm},
                                 {"after_iqr_mm", o.after->iqr_mm()},
                                 {"reduction_percent", o.reduction_percent},
+                                {"head_region_percent", o.head_region_percent},
                                 {"target", o.name == head}});
   }
   Require(head_error != nullptr, "no head pixel was evaluated");
@@ -163,20 +160,6 @@ void RunDemoReconstruction(DemoContext& ctx, DemoJson& stage) {
     options.marker_error = *ctx.frf;
     stage["note"] = "no depth model (stage depth failed): uncorrected ranges";
   }
-  // TODO(identify branch): the library's automatic ROI once it leaves out the headframe board.
-  options.correct_range = [correct = options.correct_range, &tool](const AhatFrame& frame,
-                                                                   const AhatCamera& camera) {
-    Image<float> range(camera.width(), camera.height(), 0.0f);
-    if (correct) {
-      range = correct(frame, camera);
-    } else {
-      for (int v = 0; v < range.height(); ++v) {
-        for (int u = 0; u < range.width(); ++u) range(u, v) = frame.range_mm(u, v);
-      }
-    }
-    KeepHeadAroundStickers(frame, camera, tool, range);
-    return range;
-  };
   const ReconstructResult r =
       ReconstructSurface(*s.recording, s.camera, tool, options,
                          [&](std::size_t d, std::size_t t) { ctx.progress("reconstruct", d, t); });

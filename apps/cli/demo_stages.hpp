@@ -58,19 +58,6 @@ void RunDemoRegistration(DemoContext& ctx, DemoJson& stage);
 void RunDemoTracking(DemoContext& ctx, DemoJson& stage);
 void RunDemoGuidance(DemoContext& ctx, DemoJson& stage);
 
-/// TODO(identify branch): until the library's head ROI excludes the headframe board. The centre
-/// of the skin stickers in a frame: the markers detected that the posed headframe tool does not
-/// explain (nullopt when the headframe or every sticker is unseen).
-std::optional<Eigen::Vector3d> StickerCentreInAhat(const AhatFrame& frame, const AhatCamera& camera,
-                                                   const ToolGeometry& headframe);
-/// Drops (range and AB 0) the pixels farther than 130 mm from the stickers' centre, every pixel
-/// when it is unknown.
-void KeepHeadAroundStickers(AhatFrame& frame, const AhatCamera& camera,
-                            const ToolGeometry& headframe);
-/// The same on a (corrected) range image of `frame`.
-void KeepHeadAroundStickers(const AhatFrame& frame, const AhatCamera& camera,
-                            const ToolGeometry& headframe, Image<float>& range_mm);
-
 /// The paper's reference figures (demo.json "paper"), keys as the stages' where comparable.
 DemoJson PaperFigures();
 /// The tables: ours beside the paper's, one block per stage.

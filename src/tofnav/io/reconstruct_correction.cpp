@@ -10,6 +10,7 @@ void UseDepthModel(const DepthModelFile& file, ReconstructOptions& options,
   correct.segmentation.min_range_mm = options.tsdf.min_range_mm;
   correct.segmentation.max_range_mm = options.tsdf.max_range_mm;
   correct.segmentation.transition_dilation_px = options.marker_mask_dilation_px;
+  correct.segmentation.head_region = options.head_region;
   options.correct_range = [model = file.model, correct](const AhatFrame& frame,
                                                         const AhatCamera& camera) {
     return CorrectRangeImage(frame, camera, model, correct);
