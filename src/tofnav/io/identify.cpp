@@ -2,10 +2,8 @@
 // Identification from a recording: frame preparation, two stages, the skin placed once.
 #include "tofnav/io/identify.hpp"
 
-#include "tofnav/core/grid3.hpp"
 #include "tofnav/correction/initial_pose.hpp"
-#include "tofnav/fusion/marching_cubes.hpp"
-#include "tofnav/fusion/mesh_components.hpp"
+#include "tofnav/imaging/skin.hpp"
 
 namespace tofnav {
 
@@ -52,13 +50,10 @@ IdentifyRecordingResult IdentifyFromRecording(
   return result;
 }
 
-TriangleMesh SkinIsoSurface(CtVolume ct, double iso_hu) {
-  const Grid3<float> grid(Eigen::Vector3i(ct.nx(), ct.ny(), ct.nz()), std::move(ct.values),
-                          ct.image_from_ijk);
-  GridIsoSurfaceOptions options;
-  options.iso_value = static_cast<float>(iso_hu);
-  options.outside = IsoSurfaceOutside::kBelow;
-  return LargestConnectedComponent(ExtractIsoSurface(grid, options));
+TriangleMesh SkinIsoSurface(const CtVolume& ct, std::optional<double> iso_hu) {
+  SkinOptions options;
+  options.threshold = iso_hu;
+  return ExtractSkin(ct, options).mesh;
 }
 
 }  // namespace tofnav

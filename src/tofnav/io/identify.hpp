@@ -50,8 +50,8 @@ IdentifyRecordingResult IdentifyFromRecording(
     const IdentifyRecordingOptions& options = {},
     const std::function<void(std::size_t, std::size_t)>& progress = {});
 
-/// The CT skin for identification: the HU iso-surface between air and soft tissue, largest
-/// connected component, in the image frame.
-TriangleMesh SkinIsoSurface(CtVolume ct, double iso_hu = -400.0);
+/// The CT skin for identification: imaging's ExtractSkin (as `tofnav skin`: the CT default
+/// threshold unless `iso_hu` is given, largest component, cavities filled), in the image frame.
+TriangleMesh SkinIsoSurface(const CtVolume& ct, std::optional<double> iso_hu = std::nullopt);
 
 }  // namespace tofnav
