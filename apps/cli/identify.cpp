@@ -40,7 +40,8 @@ int RunIdentify(int argc, char** argv) {
   auto* ct = app.add_option("--ct", ct_path, "pre-operative CT (NRRD, NIfTI, DICOM): Err_C");
   app.add_option("--skin", skin_path, "CT skin surface (PLY/STL/OBJ, image frame): Err_C")
       ->excludes(ct);
-  app.add_option("--ct-skin-hu", iso_hu, "skin threshold [HU] (with --ct; default: as tofnav skin)");
+  app.add_option("--ct-skin-hu", iso_hu,
+                 "skin threshold [HU] (with --ct; default: as tofnav skin)");
   app.add_option("--marker-error", frf_path, "f_rf JSON (Eq. 1) for marker pixels");
   app.add_option("--out", out_path, "depth_model.json to write")->required();
   app.add_option("--max-frames", max_frames, "frames used, evenly spread")

@@ -12,6 +12,7 @@
 #include "tofnav/correction/correct_range.hpp"
 #include "tofnav/io/depth_model_json.hpp"
 #include "tofnav/io/marker_range_json.hpp"
+#include "tofnav/io/reconstruct_correction.hpp"
 
 namespace tofnav::python {
 namespace {
@@ -30,18 +31,9 @@ py::dict Reconstruct(const AhatRecording& recording, const AhatCamera& camera,
                      ReconstructOptions options) {
   options.tsdf.roi_in_tool = OptionalBoxFromObjects(args.roi_min, args.roi_max);
   if (args.marker_error) options.marker_error = *args.marker_error;
-  if (args.depth_model) {
-    // As `tofnav reconstruct --depth-model`: the segmentation follows the fusion's range limits
-    // and marker mask.
-    CorrectRangeOptions correct = args.correct_options.value_or(CorrectRangeOptions{});
-    correct.segmentation.min_range_mm = options.tsdf.min_range_mm;
-    correct.segmentation.max_range_mm = options.tsdf.max_range_mm;
-    correct.segmentation.transition_dilation_px = options.marker_mask_dilation_px;
-    correct.segmentation.head_region = options.head_region;
-    options.correct_range = [model = *args.depth_model, correct](const AhatFrame& frame,
-                                                                 const AhatCamera& cam) {
-      return CorrectRangeImage(frame, cam, model, correct);
-    };
+  if (args.depth_model) {  // as `tofnav reconstruct --depth-model`
+    UseDepthModel({*args.depth_model, args.marker_error}, options,
+                  args.correct_options.value_or(CorrectRangeOptions{}));
   }
   ReconstructResult r;
   {
