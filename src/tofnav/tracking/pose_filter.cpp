@@ -73,14 +73,18 @@ std::optional<Rigid3d> PoseFilter::Predict(double timestamp_s) const {
                  position_mm_ + velocity_mm_per_s_ * dt);
 }
 
-PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s) {
+PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
+                                    double position_accel_sigma_mm_per_s2) {
   const std::optional<Rigid3d> predicted = Predict(timestamp_s);
   if (!predicted) {  // first measurement, a gap, or time going backwards
     Initialise(measured, timestamp_s);
     return {measured, false, true};
   }
   const double dt = timestamp_s - last_s_;
-  const Axis2 pos = Propagate(position_cov_, dt, options_.position_accel_sigma_mm_per_s2);
+  const double accel_sigma = position_accel_sigma_mm_per_s2 > 0.0
+                                 ? position_accel_sigma_mm_per_s2
+                                 : options_.position_accel_sigma_mm_per_s2;
+  const Axis2 pos = Propagate(position_cov_, dt, accel_sigma);
   const Axis2 rot = Propagate(rotation_cov_, dt, options_.rotation_accel_sigma_rad_per_s2);
   const double sp = options_.position_sigma_mm, sr = options_.rotation_sigma_rad;
   const double s_pos = pos.pp + sp * sp, s_rot = rot.pp + sr * sr;

@@ -46,7 +46,10 @@ class PoseFilter {
  public:
   explicit PoseFilter(const PoseFilterOptions& options = {});
 
-  PoseFilterUpdate Update(const Rigid3d& measured_ahat_from_tool, double timestamp_s);
+  /// `position_accel_sigma_mm_per_s2` > 0 replaces the option's for this step (the caller knows
+  /// the tool moves in the measurement frame, e.g. a world-fixed tool seen by a moving camera).
+  PoseFilterUpdate Update(const Rigid3d& measured_ahat_from_tool, double timestamp_s,
+                          double position_accel_sigma_mm_per_s2 = 0.0);
   /// The state extrapolated to `timestamp_s`; nullopt before the first measurement or when the
   /// gap exceeds max_gap_s (the filter would re-initialise).
   std::optional<Rigid3d> Predict(double timestamp_s) const;

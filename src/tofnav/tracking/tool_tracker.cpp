@@ -2,6 +2,7 @@
 // ToolTracker: EstimateToolPoses with a temporal prior, then one PoseFilter per tool.
 #include "tofnav/tracking/tool_tracker.hpp"
 
+#include <algorithm>
 #include <utility>
 
 #include "tofnav/core/require.hpp"
@@ -12,6 +13,9 @@ void ToolTrackerOptions::Check() const {
   pose.Check();
   filter.Check();
   Require(max_missed_frames >= 1, "ToolTrackerOptions::max_missed_frames must be >= 1");
+  Require(camera_motion_bandwidth_per_s >= 0.0 && camera_motion_baseline_s > 0.0,
+          "ToolTrackerOptions: camera_motion_bandwidth_per_s must be >= 0 and "
+          "camera_motion_baseline_s > 0");
 }
 
 ToolTracker::ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptions& options)
@@ -29,11 +33,31 @@ void ToolTracker::Reset() {
   last_pose_.assign(tools_.size(), std::nullopt);
   last_seen_s_.assign(tools_.size(), 0.0);
   missed_.assign(tools_.size(), 0);
+  camera_poses_.clear();
 }
 
 TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, double timestamp_s,
                                  const std::optional<Rigid3d>& world_from_ahat) {
   const bool in_world = options_.filter_enabled && options_.rotation_in_world && world_from_ahat;
+  // ahat(now)_from_ahat(then), `then` about camera_motion_baseline_s ago, from the camera poses.
+  std::optional<Rigid3d> camera_step;
+  double step_s = 0.0;
+  if (!world_from_ahat || (!camera_poses_.empty() && timestamp_s <= camera_poses_.back().first)) {
+    camera_poses_.clear();
+  }
+  if (world_from_ahat) {
+    const double baseline_s = options_.camera_motion_baseline_s;
+    while (camera_poses_.size() >= 2 && timestamp_s - camera_poses_[1].first >= baseline_s) {
+      camera_poses_.pop_front();  // keep the newest pose at least baseline_s old at the front
+    }
+    if (!camera_poses_.empty()) {
+      step_s = timestamp_s - camera_poses_.front().first;
+      if (step_s >= 0.5 * baseline_s && step_s <= 2.0 * baseline_s) {
+        camera_step = world_from_ahat->Inverse() * camera_poses_.front().second;
+      }
+    }
+    camera_poses_.emplace_back(timestamp_s, *world_from_ahat);
+  }
   std::vector<std::optional<Rigid3d>> prior(tools_.size());
   for (std::size_t t = 0; t < tools_.size(); ++t) {
     if (options_.filter_enabled) {
@@ -62,7 +86,14 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
     last_pose_[t] = raw;
     last_seen_s_[t] = timestamp_s;
     if (options_.filter_enabled) {
-      const PoseFilterUpdate update = filters_[t].Update(*raw, timestamp_s);
+      double accel_sigma = 0.0;  // the option's
+      if (camera_step) {         // a world-fixed point at raw's position was at step^-1 * p then
+        const Eigen::Vector3d& p = raw->translation;
+        const double speed_mm_per_s = (p - camera_step->Inverse() * p).norm() / step_s;
+        accel_sigma = std::max(options_.filter.position_accel_sigma_mm_per_s2,
+                               options_.camera_motion_bandwidth_per_s * speed_mm_per_s);
+      }
+      const PoseFilterUpdate update = filters_[t].Update(*raw, timestamp_s, accel_sigma);
       tracked.gated = update.gated;
       tracked.filter_reset = update.reset;
       if (!update.gated) tracked.filtered_ahat_from_tool = update.filtered;

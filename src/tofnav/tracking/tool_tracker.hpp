@@ -2,8 +2,10 @@
 // Frame-to-frame tracking of several tools: poses, temporal prior, one filter per tool, status.
 #pragma once
 
+#include <deque>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "tofnav/markers/marker_detection.hpp"
@@ -22,6 +24,15 @@ struct ToolTrackerOptions {
   /// small tool instead of lagging the head. The position stays filtered in `ahat` (the rig
   /// pose's jitter would add to it). The filter restarts when the world pose comes or goes.
   bool rotation_in_world = true;
+  /// With the camera's world pose over the last camera_motion_baseline_s, a world-fixed tool
+  /// moves in `ahat` at the apparent speed v the camera's motion gives it; the head's wander is
+  /// smooth (sinusoids up to ~0.45 Hz), so its apparent acceleration is about this bandwidth times
+  /// v. The position filter's process noise is raised to that for the step: it follows the turning
+  /// camera and keeps its static smoothing when the camera is still. 0 turns it off.
+  double camera_motion_bandwidth_per_s = 3.0;
+  /// The camera's motion is taken between poses this far apart: the rig pose's per-frame jitter
+  /// (0.3 mm, 3e-4 rad in the simulator: ~20 mm/s frame to frame) would look like motion.
+  double camera_motion_baseline_s = 0.4;
   int max_missed_frames = 5;  // frames without a pose before the filter and prior are dropped
   void Check() const;         // throws std::invalid_argument naming the bad field
 };
@@ -63,6 +74,7 @@ class ToolTracker {
   std::vector<std::optional<Rigid3d>> last_pose_;  // last raw pose (prior when unfiltered)
   std::vector<double> last_seen_s_;
   std::vector<int> missed_;
+  std::deque<std::pair<double, Rigid3d>> camera_poses_;  // (time, world_from_ahat), newest last
 };
 
 }  // namespace tofnav
