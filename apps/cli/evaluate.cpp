@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "tofnav/io/hl2ss_calibration.hpp"
 
 namespace tofnav {
 namespace {
@@ -28,6 +29,26 @@ void PrintUsage() {
 }
 
 }  // namespace
+
+void SimulatedRunArgs::AddOptions(CLI::App& app, const std::string& truth_help) {
+  app.add_option("recording", recording, "the simulated recording")->required();
+  app.add_option("--truth", truth_dir, truth_help)->required();
+  app.add_option("--calibration", calibration, "calibration folder (default: TRUTH/calibration)");
+  app.add_option("--scenario", scenario_name, "scenario file or built-in (default: truth.json's)");
+  app.add_option("--max-frames", max_frames, "frames evaluated, evenly spread")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--json", json, "print JSON");
+  app.add_flag("-q,--quiet", quiet, "no progress bar");
+}
+
+AhatCamera SimulatedRunArgs::Camera() const {
+  return AhatCamera(
+      ReadHl2ssCalibration(calibration.empty() ? truth_dir / "calibration" : calibration));
+}
+
+std::unique_ptr<AhatRecording> SimulatedRunArgs::Open() const {
+  return OpenAhatRecording(recording);
+}
 
 bool RegisterEvaluator(const Evaluator& evaluator) {
   Evaluators().push_back(evaluator);

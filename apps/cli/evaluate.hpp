@@ -2,6 +2,14 @@
 // `tofnav evaluate <what>`: evaluators register themselves, one file each.
 #pragma once
 
+#include <CLI/CLI.hpp>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "tofnav/io/ahat_recording.hpp"
+#include "tofnav/sensor/ahat_camera.hpp"
+
 namespace tofnav {
 
 struct Evaluator {
@@ -16,5 +24,18 @@ struct Evaluator {
 /// The file must be a source of the tofnav executable itself: in a static library the linker
 /// would drop the unreferenced object and its registration with it.
 bool RegisterEvaluator(const Evaluator& evaluator);
+
+/// The options every evaluator of a simulated recording shares: the recording, --truth,
+/// --calibration (default TRUTH/calibration), --scenario, --max-frames, --json, -q.
+struct SimulatedRunArgs {
+  std::filesystem::path recording, truth_dir, calibration;
+  std::string scenario_name;
+  int max_frames = 60;
+  bool json = false, quiet = false;
+
+  void AddOptions(CLI::App& app, const std::string& truth_help);
+  AhatCamera Camera() const;  // from --calibration, else TRUTH/calibration
+  std::unique_ptr<AhatRecording> Open() const;
+};
 
 }  // namespace tofnav

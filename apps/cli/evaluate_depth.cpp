@@ -24,32 +24,23 @@ int RunEvaluateDepth(int argc, char** argv) {
       "Depth error per object before and after correction, against the simulator's "
       "truth_range_f32.bin (paper Table I layout; docs/correction.md)",
       "tofnav evaluate depth"};
-  std::filesystem::path recording_path, truth_dir, calibration_path, model_path;
-  std::string scenario_name;
-  int max_frames = 60;
-  bool json_out = false, quiet = false;
-  app.add_option("recording", recording_path, "the simulated recording")->required();
-  app.add_option("--truth", truth_dir, "simulator output folder (truth.json, truth_range_f32.bin)")
-      ->required();
-  app.add_option("--calibration", calibration_path,
-                 "calibration folder (default: TRUTH/calibration)");
+  SimulatedRunArgs run;
+  std::filesystem::path model_path;
+  run.AddOptions(app, "simulator output folder (truth.json, truth_range_f32.bin)");
   app.add_option("--depth-model", model_path, "depth_model.json: also report after correction");
-  app.add_option("--scenario", scenario_name, "scenario file or built-in (default: truth.json's)");
-  app.add_option("--max-frames", max_frames, "frames evaluated, evenly spread")
-      ->check(CLI::PositiveNumber);
-  app.add_flag("--json", json_out, "print JSON");
-  app.add_flag("-q,--quiet", quiet, "no progress bar");
   CLI11_PARSE(app, argc, argv);
 
-  if (calibration_path.empty()) calibration_path = truth_dir / "calibration";
-  const AhatCamera camera(ReadHl2ssCalibration(calibration_path));
-  const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
+  const AhatCamera camera = run.Camera();
+  const std::unique_ptr<AhatRecording> recording = run.Open();
+  const std::filesystem::path& truth_dir = run.truth_dir;
+  const bool json_out = run.json;
   std::optional<DepthModelFile> model;
   if (!model_path.empty()) model = ReadDepthModelJson(model_path);
-  ProgressBar progress("evaluate depth", quiet || json_out);
+  ProgressBar progress("evaluate depth", run.quiet || json_out);
   const DepthEvaluation evaluation = EvaluateDepthAgainstTruth(
-      *recording, camera, truth_dir, ReadSimulationTruth(truth_dir, scenario_name).scenario, model,
-      max_frames, [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+      *recording, camera, truth_dir, ReadSimulationTruth(truth_dir, run.scenario_name).scenario,
+      model, run.max_frames,
+      [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
   Json rows = Json::array();
   for (const ObjectDepthError& o : evaluation.objects) {
     Json row{{"object", o.name},

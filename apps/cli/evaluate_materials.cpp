@@ -157,20 +157,13 @@ int RunEvaluateMaterials(int argc, char** argv) {
       "Depth error per material against the IR-tape reference plane (paper Sec. III-A.2) and "
       "against the simulator's truth, by depth and incidence angle (docs/correction.md)",
       "tofnav evaluate materials"};
-  std::filesystem::path recording_path, truth_dir, calibration_path, frf_path;
-  std::string scenario_name;
-  int max_frames = 180;
+  SimulatedRunArgs run;
+  run.max_frames = 180;
+  std::filesystem::path frf_path;
   double depth_bin_mm = 50.0, angle_bin_deg = 10.0;
   Settings settings;
-  bool json_out = false, quiet = false;
-  app.add_option("recording", recording_path, "the simulated recording")->required();
-  app.add_option("--truth", truth_dir, "simulator output folder (truth.json)")->required();
-  app.add_option("--calibration", calibration_path,
-                 "calibration folder (default: TRUTH/calibration)");
+  run.AddOptions(app, "simulator output folder (truth.json)");
   app.add_option("--marker-error", frf_path, "f_rf curve: Eq. (2) on the tape ranges");
-  app.add_option("--scenario", scenario_name, "scenario file or built-in (default: truth.json's)");
-  app.add_option("--max-frames", max_frames, "frames evaluated, evenly spread")
-      ->check(CLI::PositiveNumber);
   app.add_option("--ab-threshold", settings.ab_threshold, "AB counts of IR-tape pixels")
       ->check(CLI::PositiveNumber);
   app.add_option("--margin-px", settings.margin_px, "pixels dropped at object and tape edges")
@@ -179,15 +172,15 @@ int RunEvaluateMaterials(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--angle-bin-deg", angle_bin_deg, "incidence angle bin width [deg]")
       ->check(CLI::PositiveNumber);
-  app.add_flag("--json", json_out, "print JSON");
-  app.add_flag("-q,--quiet", quiet, "no progress bar");
   CLI11_PARSE(app, argc, argv);
 
-  if (calibration_path.empty()) calibration_path = truth_dir / "calibration";
-  const AhatCamera camera(ReadHl2ssCalibration(calibration_path));
-  const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
+  const std::filesystem::path& truth_dir = run.truth_dir;
+  const bool json_out = run.json, quiet = run.quiet;
+  const int max_frames = run.max_frames;
+  const AhatCamera camera = run.Camera();
+  const std::unique_ptr<AhatRecording> recording = run.Open();
   if (!frf_path.empty()) settings.frf = ReadMarkerRangeJson(frf_path).model;
-  SimulationTruth simulation = ReadSimulationTruth(truth_dir, scenario_name);
+  SimulationTruth simulation = ReadSimulationTruth(truth_dir, run.scenario_name);
   sim::Scenario& scenario = simulation.scenario;
   sim::SceneRaycaster caster(scenario.scene);
   const Json& truth_frames = simulation.truth.at("frames");
