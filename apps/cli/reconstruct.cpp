@@ -104,7 +104,6 @@ int RunReconstruct(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
 
   if (!roi.empty()) options.tsdf.roi_in_tool = RoiFromList(roi);
-  correct.segmentation.head_region = options.head_region;
   options.max_frames = max_frames;
   options.largest_component = !all_components;
   options.accept_partially_occluded = !all_markers;
