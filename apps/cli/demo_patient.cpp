@@ -116,6 +116,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
                     {"C4_mm", m.c4_mm},
                     {"costs", m.report.costs},
                     {"frames", m.report.frames_used},
+                    {"markers_rejected", m.report.markers_rejected},
                     {"seconds", m.report.seconds}};
   stage["depth_model_json"] = "depth_model.json";
 

@@ -112,6 +112,7 @@ int RunIdentify(int argc, char** argv) {
                                {"c4_mm", m.c4_mm},
                                {"costs", m.report.costs},
                                {"frames", m.report.frames_used},
+                               {"markers_rejected", m.report.markers_rejected},
                                {"initial_cost_mm2", m.report.initial_cost},
                                {"final_cost_mm2", m.report.final_cost},
                                {"seconds", m.report.seconds},
@@ -128,7 +129,8 @@ int RunIdentify(int argc, char** argv) {
             << " frames, " << m.report.seconds << " s)\n"
             << "  C1 = " << m.c1_mm << " mm, C2 = " << m.c2 << ", C3 = " << m.c3_mm
             << " mm/unit, C4 = " << m.c4_mm << " mm\n"
-            << "  cost " << m.report.initial_cost << " -> " << m.report.final_cost << " mm^2\n";
+            << "  cost " << m.report.initial_cost << " -> " << m.report.final_cost << " mm^2, "
+            << m.report.markers_rejected << " markers left out as not on the skin\n";
   for (const auto& [name, cost] : m.report.cross_validation) {
     std::cout << "  held-out Err_S^2 " << name << ": " << cost << " mm^2\n";
   }

@@ -35,6 +35,7 @@ py::dict FitReportDict(const DepthErrorModel& model) {
   out["method"] = r.method;
   out["costs"] = r.costs;
   out["frames_used"] = r.frames_used;
+  out["markers_rejected"] = r.markers_rejected;
   out["evaluations"] = r.evaluations;
   out["initial_cost"] = r.initial_cost;
   out["final_cost"] = r.final_cost;

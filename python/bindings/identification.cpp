@@ -52,11 +52,16 @@ void DefineIdentificationOptions(py::module_& m) {
       .def_readwrite("max_patch_points", &IdentificationSampling::max_patch_points)
       .def_readwrite("max_marker_points", &IdentificationSampling::max_marker_points)
       .def_readwrite("max_head_points", &IdentificationSampling::max_head_points)
-      .def_readwrite("min_outlier_mm", &IdentificationSampling::min_outlier_mm);
+      .def_readwrite("min_outlier_mm", &IdentificationSampling::min_outlier_mm)
+      .def_readwrite("marker_ring_px", &IdentificationSampling::marker_ring_px)
+      .def_readwrite("min_marker_head_fraction", &IdentificationSampling::min_marker_head_fraction);
   OptionsClass<IdentificationOptions>(m, "IdentificationOptions", "IdentifyDepthModel options")
       .def_readwrite("marker_thickness_mm", &IdentificationOptions::marker_thickness_mm)
       .def_readwrite("huber_scale_mm", &IdentificationOptions::huber_scale_mm)
       .def_readwrite("max_correctness_frames", &IdentificationOptions::max_correctness_frames)
+      .def_readwrite("reject_outlier_markers", &IdentificationOptions::reject_outlier_markers)
+      .def_readwrite("marker_outlier_spreads", &IdentificationOptions::marker_outlier_spreads)
+      .def_readwrite("min_marker_outlier_mm", &IdentificationOptions::min_marker_outlier_mm)
       .def_readwrite("difference_steps", &IdentificationOptions::difference_steps)
       .def_property(
           "max_iterations", [](const IdentificationOptions& o) { return o.lm.max_iterations; },

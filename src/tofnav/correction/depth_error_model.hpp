@@ -28,6 +28,7 @@ struct DepthModelFitReport {
   std::string method;  // e.g. "levenberg-marquardt"
   std::string costs;   // "correctness+smoothness" or "smoothness"
   int frames_used = 0;
+  int markers_rejected = 0;  // marker patches left out as not on the skin (second fit)
   int evaluations = 0;
   double initial_cost = 0.0;  // Eq. (7) at the start [mm^2]
   double final_cost = 0.0;    // Eq. (7) at the solution [mm^2]

@@ -2,6 +2,7 @@
 // Patient-specific identification of the depth-error model (Eq. 7) and model comparison.
 #include "tofnav/correction/identification.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -128,6 +129,68 @@ Eigen::VectorXd Flatten(const Evaluation& e) {
   return r;
 }
 
+// Median and 1.4826 MAD of values (copied).
+std::pair<double, double> MedianSpread(std::vector<double> v) {
+  const auto median = [](std::vector<double>& x) {
+    const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
+    std::nth_element(x.begin(), mid, x.end());
+    return *mid;
+  };
+  const double m = median(v);
+  for (double& x : v) x = std::abs(x - m);
+  return {m, 1.4826 * median(v)};
+}
+
+// The frames without the marker patches whose median Eq. (6) distance under `model` lies far from
+// every other patch's: markers that are not on the skin (a tool's marker on its plate, whose
+// unbiased surroundings the skin model over-corrects by the whole skin bias; a sticker on hair).
+// A bounded (Huber) loss still pulls a little on each of them, always the same way.
+std::vector<IdentificationFrame> WithoutOutlierMarkers(std::span<const IdentificationFrame> frames,
+                                                       const DepthErrorModel& model,
+                                                       const IdentificationOptions& options,
+                                                       int& rejected) {
+  std::vector<std::vector<double>> per_frame(frames.size());
+  ParallelFor(0, static_cast<std::int64_t>(frames.size()), [&](std::int64_t fi) {
+    const auto f = static_cast<std::size_t>(fi);
+    for (const MarkerPatch& patch : frames[f].markers) {
+      std::vector<double> d = SmoothnessDistances(patch, model);
+      double m = INFINITY;  // a singular fit: always an outlier
+      if (!d.empty()) m = MedianSpread(std::move(d)).first - options.marker_thickness_mm;
+      per_frame[f].push_back(m);
+    }
+  });
+  std::vector<double> all;
+  for (const auto& v : per_frame) {
+    for (double m : v) {
+      if (std::isfinite(m)) all.push_back(m);
+    }
+  }
+  rejected = 0;
+  std::vector<IdentificationFrame> out(frames.begin(), frames.end());
+  if (all.empty()) return out;
+  const auto [centre, spread] = MedianSpread(all);
+  const double limit =
+      std::max(options.marker_outlier_spreads * spread, options.min_marker_outlier_mm);
+  for (std::size_t f = 0; f < out.size(); ++f) {
+    std::vector<MarkerPatch> kept;
+    Points3d& points = out[f].marker_points;  // Err_C's: drop the rejected markers' too
+    for (std::size_t k = 0; k < out[f].markers.size(); ++k) {
+      MarkerPatch& patch = out[f].markers[k];
+      if (std::abs(per_frame[f][k] - centre) <= limit) {
+        kept.push_back(std::move(patch));
+        continue;
+      }
+      ++rejected;
+      std::erase_if(points, [&](const Eigen::Vector3d& p) {
+        return std::find(patch.marker_points.begin(), patch.marker_points.end(), p) !=
+               patch.marker_points.end();
+      });
+    }
+    out[f].markers = std::move(kept);
+  }
+  return out;
+}
+
 template <typename T>
 std::vector<T> WithoutBlock(std::span<const T> items, std::size_t lo, std::size_t hi) {
   std::vector<T> out(items.begin(), items.begin() + static_cast<std::ptrdiff_t>(lo));
@@ -135,14 +198,48 @@ std::vector<T> WithoutBlock(std::span<const T> items, std::size_t lo, std::size_
   return out;
 }
 
+struct Fit {
+  DepthErrorModel model;  // coefficients only (no report)
+  LevenbergMarquardtResult lm;
+  Evaluation final_eval;
+  bool correctness = false;  // Err_C took part
+};
+
+// One Levenberg-Marquardt minimisation of Eq. (7) from `start`.
+Fit FitOnce(std::span<const IdentificationFrame> frames, const CorrectnessTarget* target,
+            const DepthErrorModel& start, const IdentificationOptions& options) {
+  const CorrectnessPlan plan = PlanCorrectness(frames, target, start, options);
+  const std::vector<double> p0 = ModelParameters(start);
+  const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(p0.data(), std::ssize(p0));
+  const Eigen::VectorXd steps =
+      Eigen::Map<const Eigen::VectorXd>(options.difference_steps.data(), std::ssize(p0));
+  auto residuals = [&](const Eigen::VectorXd& x) {
+    DepthErrorModel m = start;
+    SetModelParameters(m, std::vector<double>(x.data(), x.data() + x.size()));
+    if (!(m.c2 > -0.5)) m.c2 = -0.5;  // keeps Eq. (4) finite while the optimiser explores
+    return Flatten(Evaluate(frames, target, plan, m, options));
+  };
+  Fit fit;
+  fit.lm = MinimiseLeastSquares(residuals, x0, steps, options.lm);
+  fit.model = start;
+  fit.model.report = {};
+  SetModelParameters(fit.model,
+                     std::vector<double>(fit.lm.parameters.data(),
+                                         fit.lm.parameters.data() + fit.lm.parameters.size()));
+  fit.final_eval = Evaluate(frames, target, plan, fit.model, options);
+  fit.correctness = !plan.frames.empty();
+  return fit;
+}
+
 }  // namespace
 
 void IdentificationOptions::Check() const {
   if (!(huber_scale_mm >= 0.0) || !(std::abs(marker_thickness_mm) < 10.0) ||
-      max_correctness_frames < 0 || difference_steps.size() != 4) {
+      max_correctness_frames < 0 || difference_steps.size() != 4 ||
+      !(marker_outlier_spreads > 0.0) || !(min_marker_outlier_mm >= 0.0)) {
     throw std::invalid_argument(
-        "IdentificationOptions: need huber_scale_mm >= 0, max_correctness_frames >= 0 and four "
-        "difference_steps");
+        "IdentificationOptions: need huber_scale_mm >= 0, max_correctness_frames >= 0, four "
+        "difference_steps, marker_outlier_spreads > 0 and min_marker_outlier_mm >= 0");
   }
   for (double s : difference_steps) {
     if (!(s > 0.0)) throw std::invalid_argument("IdentificationOptions: difference_steps > 0");
@@ -173,33 +270,30 @@ DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
   if (patches == 0) {
     throw std::invalid_argument("IdentifyDepthModel: no frame has a marker with head around it");
   }
-  const CorrectnessPlan plan = PlanCorrectness(frames, target, start, options);
-  DepthErrorModel model = start;
-  const std::vector<double> p0 = ModelParameters(start);
-  const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(p0.data(), std::ssize(p0));
-  const Eigen::VectorXd steps =
-      Eigen::Map<const Eigen::VectorXd>(options.difference_steps.data(), std::ssize(p0));
-  auto residuals = [&](const Eigen::VectorXd& x) {
-    DepthErrorModel m = start;
-    SetModelParameters(m, std::vector<double>(x.data(), x.data() + x.size()));
-    if (!(m.c2 > -0.5)) m.c2 = -0.5;  // keeps Eq. (4) finite while the optimiser explores
-    return Flatten(Evaluate(frames, target, plan, m, options));
-  };
-  const LevenbergMarquardtResult lm = MinimiseLeastSquares(residuals, x0, steps, options.lm);
-  SetModelParameters(model, std::vector<double>(lm.parameters.data(),
-                                                lm.parameters.data() + lm.parameters.size()));
-  const Evaluation final_eval = Evaluate(frames, target, plan, model, options);
+  Fit fit = FitOnce(frames, target, start, options);
+  const double initial_cost = fit.lm.initial_cost;
+  int evaluations = fit.lm.evaluations, rejected = 0;
+  if (options.reject_outlier_markers) {
+    const std::vector<IdentificationFrame> kept =
+        WithoutOutlierMarkers(frames, fit.model, options, rejected);
+    if (rejected > 0 && rejected < patches) {
+      fit = FitOnce(kept, target, fit.model, options);
+      evaluations += fit.lm.evaluations;
+    }
+  }
+  DepthErrorModel model = fit.model;
   DepthModelFitReport& rep = model.report;
   rep = {};
   rep.method = "levenberg-marquardt";
-  rep.costs = plan.frames.empty() ? "smoothness" : "correctness+smoothness";
+  rep.costs = fit.correctness ? "correctness+smoothness" : "smoothness";
   rep.frames_used = static_cast<int>(frames.size());
-  rep.evaluations = lm.evaluations;
-  rep.initial_cost = 2.0 * lm.initial_cost;
-  rep.final_cost = 2.0 * lm.final_cost;
-  rep.standard_errors.assign(lm.standard_errors.data(),
-                             lm.standard_errors.data() + lm.standard_errors.size());
-  rep.frames = final_eval.report;
+  rep.markers_rejected = rejected;
+  rep.evaluations = evaluations;
+  rep.initial_cost = 2.0 * initial_cost;
+  rep.final_cost = 2.0 * fit.lm.final_cost;
+  rep.standard_errors.assign(fit.lm.standard_errors.data(),
+                             fit.lm.standard_errors.data() + fit.lm.standard_errors.size());
+  rep.frames = std::move(fit.final_eval.report);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return model;
 }

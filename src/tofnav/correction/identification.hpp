@@ -31,6 +31,12 @@ struct IdentificationOptions {
   /// Frames (evenly chosen among those with a guess) that run an ICP per evaluation for Err_C;
   /// their sum is re-weighted to count as much as all frames' Err_S would.
   int max_correctness_frames = 12;
+  /// Beyond the paper: after a first fit, drop the markers whose median Eq. (6) distance lies
+  /// beyond max(marker_outlier_spreads x 1.4826 MAD, min_marker_outlier_mm) of the others' (not
+  /// on the skin: a tool's marker on its plate, a sticker on hair) and fit again.
+  bool reject_outlier_markers = true;
+  double marker_outlier_spreads = 3.0;
+  double min_marker_outlier_mm = 2.0;
   CorrectnessOptions correctness;
   LevenbergMarquardtOptions lm;
   /// Central-difference steps of C1 [mm], C2 [1], C3 [mm per unit g], C4 [mm].

@@ -4,6 +4,7 @@
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <stdexcept>
 
@@ -95,6 +96,40 @@ void DropOutliers(MarkerPatch& patch, const IdentificationSampling& sampling) {
   patch.marker_points = std::move(kept);
 }
 
+// Pixel bounding box (u0, v0, u1, v1) of a marker area (inclusive; never empty: areas have pixels).
+std::array<int, 4> PixelBox(const MarkerArea& area) {
+  std::array<int, 4> box{area.pixels.front().x(), area.pixels.front().y(), area.pixels.front().x(),
+                         area.pixels.front().y()};
+  for (const Eigen::Vector2i& px : area.pixels) {
+    box[0] = std::min(box[0], px.x()), box[1] = std::min(box[1], px.y());
+    box[2] = std::max(box[2], px.x()), box[3] = std::max(box[3], px.y());
+  }
+  return box;
+}
+
+// True when most pixels of a thin ring just outside the marker's transitional band are head
+// pixels: a sticker on the skin. A tool's marker sits on its plate, which the head region leaves
+// out; its surroundings are not skin, so it says nothing about the skin's smoothness (Eq. 6) nor
+// lies on the CT skin (Eq. 5).
+bool OnHead(const MarkerArea& area, const FrameSegmentation& seg, const IdentificationSampling& s) {
+  const auto [u0, v0, u1, v1] = PixelBox(area);
+  const int inner = s.segmentation.transition_dilation_px + 1;
+  const int outer = inner + s.marker_ring_px - 1;
+  int ring = 0, head = 0;
+  for (int v = v0 - outer; v <= v1 + outer; ++v) {
+    for (int u = u0 - outer; u <= u1 + outer; ++u) {
+      const int du = std::max({u0 - u, u - u1, 0}), dv = std::max({v0 - v, v - v1, 0});
+      if (std::max(du, dv) < inner || u < 0 || v < 0 || u >= seg.labels.width() ||
+          v >= seg.labels.height()) {
+        continue;
+      }
+      ++ring;
+      if (seg.labels(u, v) == kHead) ++head;
+    }
+  }
+  return ring > 0 && head >= s.min_marker_head_fraction * ring;
+}
+
 MarkerPatch MakePatch(const MarkerArea& area, const Image<float>& surface_range,
                       const FrameSegmentation& seg, const AhatFrame& frame,
                       const AhatCamera& camera, const MarkerRangeModel& marker_model,
@@ -108,11 +143,7 @@ MarkerPatch MakePatch(const MarkerArea& area, const Image<float>& surface_range,
                                   CorrectMarkerRange(frame.range_mm(px.x(), px.y()), marker_model));
   }
   // Pixel box around the marker that covers the patch radius at the marker's range.
-  int u0 = camera.width(), v0 = camera.height(), u1 = 0, v1 = 0;
-  for (const Eigen::Vector2i& px : area.pixels) {
-    u0 = std::min(u0, px.x()), v0 = std::min(v0, px.y());
-    u1 = std::max(u1, px.x()), v1 = std::max(v1, px.y());
-  }
+  const auto [u0, v0, u1, v1] = PixelBox(area);
   const double range = std::max(area.centroid_in_ahat.norm(), 100.0);
   const int margin = static_cast<int>(std::ceil(1.3 * 260.0 * sampling.patch_radius_mm / range));
   const double radius_sq = sampling.patch_radius_mm * sampling.patch_radius_mm;
@@ -150,6 +181,10 @@ void IdentificationSampling::Check() const {
     throw std::invalid_argument(
         "IdentificationSampling: need patch_radius_mm > 0, 10 <= min_patch_points <= "
         "max_patch_points, max_marker_points >= 1, max_head_points >= 10");
+  }
+  if (marker_ring_px < 1 || !(min_marker_head_fraction >= 0.0 && min_marker_head_fraction <= 1.0)) {
+    throw std::invalid_argument(
+        "IdentificationSampling: need marker_ring_px >= 1 and min_marker_head_fraction in [0, 1]");
   }
 }
 
@@ -201,6 +236,7 @@ IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const Aha
   const FrameSegmentation seg = SegmentFrame(frame, camera, sampling.segmentation);
   const Image<float> surface_range = SurfaceRange(RangeAsFloat(frame.range_mm), seg);
   for (const MarkerArea& area : seg.markers) {
+    if (!OnHead(area, seg, sampling)) continue;
     MarkerPatch patch = MakePatch(area, surface_range, seg, frame, camera, marker_model, sampling);
     out.marker_points.insert(out.marker_points.end(), patch.marker_points.begin(),
                              patch.marker_points.end());

@@ -54,6 +54,10 @@ struct IdentificationSampling {
   int max_patch_points = 160;     // evenly subsampled beyond
   int max_marker_points = 48;     // per marker
   int max_head_points = 500;      // per frame, for the ICP
+  /// Markers count (Eq. 5 and 6) only when at least this fraction of a ring marker_ring_px wide
+  /// just outside their transitional band is head: stickers on the skin, not a tool's markers.
+  int marker_ring_px = 3;
+  double min_marker_head_fraction = 0.5;
   /// Outliers (judged on the measured points) lie beyond max(3 x 1.4826 MAD, this) [mm].
   double min_outlier_mm = 1.5;
   /// theta of the patch neighbours from the cubic surface fitted to them (SetIncidenceFromPatch-

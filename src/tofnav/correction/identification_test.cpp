@@ -39,6 +39,29 @@ TEST(IdentifyDepthModel, SmoothnessOnlyRecoversKnownCoefficients) {
   EXPECT_LT(fitted.report.final_cost, 1e-3 * fitted.report.initial_cost);
 }
 
+TEST(IdentifyDepthModel, LeavesOutMarkersThatAreNotOnTheSkin) {
+  constexpr double kRelTol = 0.02;  // as SmoothnessOnlyRecoversKnownCoefficients
+  // A tool's marker on its plate: its surroundings carry no skin bias (frames made with the zero
+  // model), so the skin model over-corrects them by the whole bias. One such marker per frame.
+  std::vector<IdentificationFrame> frames = SphereFrames(TrueModel());
+  const std::vector<IdentificationFrame> unbiased = SphereFrames(DepthErrorModel{});
+  for (std::size_t f = 0; f < frames.size(); ++f)
+    frames[f].markers.push_back(unbiased[f].markers[0]);
+  const DepthErrorModel fitted = IdentifyDepthModel(frames, nullptr, DepthErrorModel{});
+  EXPECT_EQ(fitted.report.markers_rejected, static_cast<int>(frames.size()));
+  EXPECT_NEAR(fitted.c1_mm, 2.8, 2.8 * kRelTol);
+  EXPECT_NEAR(fitted.c2, 0.010, 0.010 * kRelTol);
+  EXPECT_NEAR(fitted.c3_mm, 4.0, 4.0 * kRelTol);
+  // Kept, they pull the fit off (the Huber loss bounds each one's pull, not its direction).
+  IdentificationOptions keep;
+  keep.reject_outlier_markers = false;
+  const DepthErrorModel pulled = IdentifyDepthModel(frames, nullptr, DepthErrorModel{}, keep);
+  EXPECT_EQ(pulled.report.markers_rejected, 0);
+  EXPECT_GT(std::abs(pulled.c1_mm - 2.8) / 2.8 + std::abs(pulled.c2 - 0.010) / 0.010 +
+                std::abs(pulled.c3_mm - 4.0) / 4.0,
+            5.0 * kRelTol);
+}
+
 TEST(CorrectnessDistances, ZeroForTheTrueModelAndTheBiasForNone) {
   constexpr double kSkinTolMm = 0.15;  // point-to-plane to a 3 deg (4.7 mm) skin sampling
   const std::vector<IdentificationFrame> frames = SphereFrames(TrueModel());

@@ -106,6 +106,7 @@ Json ReportToJson(const DepthModelFitReport& r) {
   return Json{{"method", r.method},
               {"costs", r.costs},
               {"frames_used", r.frames_used},
+              {"markers_rejected", r.markers_rejected},
               {"evaluations", r.evaluations},
               {"initial_cost_mm2", r.initial_cost},
               {"final_cost_mm2", r.final_cost},
@@ -140,6 +141,7 @@ DepthModelFitReport ReportFromJson(const Json& json) {
   str("method", r.method);
   str("costs", r.costs);
   num(json, "frames_used", r.frames_used);
+  num(json, "markers_rejected", r.markers_rejected);
   num(json, "evaluations", r.evaluations);
   num(json, "initial_cost_mm2", r.initial_cost);
   num(json, "final_cost_mm2", r.final_cost);
