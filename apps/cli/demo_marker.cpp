@@ -23,8 +23,10 @@ constexpr double kWorkingFromMm = 300.0, kWorkingToMm = 700.0;  // the paper's w
 constexpr double kRunRestartMm = 100.0;
 
 // The built-in stage runs 400 mm at 40 mm/s four times (1800 frames); the demo runs the same
-// travel faster so that `frames` cover all four runs (the simulator has no motion blur).
-void FitStageInto(sim::Scenario& s, std::int64_t frames) {
+// travel faster so that `frames` cover all four runs (the simulator has no motion blur). Returns
+// the stage's speed [mm/s], known to the user as the stage's commanded speed.
+double FitStageInto(sim::Scenario& s, std::int64_t frames) {
+  double speed_mm_per_s = 0.0;
   for (sim::Mount& m : s.mounts) {
     if (m.motion.kind != sim::MotionKind::kSequence) continue;
     const auto runs = static_cast<std::int64_t>(m.motion.segments.size());
@@ -33,9 +35,11 @@ void FitStageInto(sim::Scenario& s, std::int64_t frames) {
       run.linear.speed_mm_per_s *=
           static_cast<double>(run.segment_slots) / static_cast<double>(slots);
       run.segment_slots = slots;
+      speed_mm_per_s = run.linear.speed_mm_per_s;
     }
     s.frames = slots * runs;
   }
+  return speed_mm_per_s;
 }
 
 // Largest |mean marker-centre range bias| over the 100 mm bins inside the working range.
@@ -63,7 +67,7 @@ DemoJson BiasBins(const ToolEvaluation& e) {
 
 void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   sim::Scenario scenario = sim::BuiltinScenario("marker-stage");
-  FitStageInto(scenario, ctx.stage_frames);
+  const double stage_speed_mm_per_s = FitStageInto(scenario, ctx.stage_frames);
   const std::filesystem::path dir = ctx.out / "stage";
   SimulateOptions simulate;
   simulate.seed = ctx.seed;
@@ -77,6 +81,7 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   const ToolGeometry structure = ReadToolFile(dir / "tools" / "tape_structure.json");
   StageSampleOptions sample_options;
   sample_options.split_jump_mm = kRunRestartMm;
+  if (stage_speed_mm_per_s > 0.0) sample_options.speed_mm_s = stage_speed_mm_per_s;
   const StageSamples samples =
       CollectStageSamples(source, args.detection, structure, sample_options,
                           [&](std::size_t d, std::size_t t) { ctx.progress("fit f_rf", d, t); });

@@ -36,7 +36,8 @@ int RunFitMarkerError(int argc, char** argv) {
   app.add_option("--tool", tool_path, "the multi-marker structure (tool JSON or .rom)")->required();
   app.add_option("--out", out_path, "f_rf curve JSON to write")->required();
   app.add_option("--speed-mm-s", speed_mm_s,
-                 "nominal stage speed [mm/s]: runs whose fitted speed differs by > 10 % drop");
+                 "the stage's commanded speed [mm/s]: the reference line moves at it (only its "
+                 "origin is fitted); runs whose fitted speed differs by > 10 % drop");
   app.add_option("--smoothing", smoothing, "csaps p in [0, 1], or 'gcv' (default)");
   app.add_option("--split-jump-mm", jump_mm,
                  "a structure jump larger than this between frames starts a new run [mm] (20)");

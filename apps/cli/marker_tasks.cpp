@@ -101,9 +101,11 @@ StageSamples CollectStageSamples(const MarkerSource& source,
     run.run = r;
     run.frames = runs[r].size();
     try {
+      StageRangeErrorOptions stage_options = options.stage;
+      if (options.speed_mm_s) stage_options.known_speed_mm_per_s = *options.speed_mm_s;
       const StageRangeErrorResult stage =
-          MeasureMarkerRangeErrors(runs[r], structure, options.stage);
-      const double speed = stage.line_velocity_mm_per_s.norm();
+          MeasureMarkerRangeErrors(runs[r], structure, stage_options);
+      const double speed = stage.fitted_speed_mm_per_s;
       run.frames_used = stage.frames_used;
       run.speed_mm_s = speed;
       run.line_rms_mm = stage.line_rms_mm;

@@ -43,8 +43,10 @@ struct StageSamples {
 };
 
 struct StageSampleOptions {
-  double split_jump_mm = 20.0;       // a larger structure jump between frames starts a new run
-  std::optional<double> speed_mm_s;  // nominal speed: runs more than 10 % off are dropped
+  double split_jump_mm = 20.0;  // a larger structure jump between frames starts a new run
+  /// The stage's commanded speed: each run's reference line moves at it, and runs whose fitted
+  /// speed is more than speed_tolerance off are dropped.
+  std::optional<double> speed_mm_s;
   double speed_tolerance = 0.1;
   StageRangeErrorOptions stage;
 };

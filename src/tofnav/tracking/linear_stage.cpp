@@ -55,6 +55,9 @@ void StageRangeErrorOptions::Check() const {
   ray_pose.Check();
   Require(max_line_residual_mm > 0.0, "StageRangeErrorOptions::max_line_residual_mm must be > 0");
   Require(min_frames >= 2, "StageRangeErrorOptions::min_frames must be >= 2");
+  Require(!known_speed_mm_per_s ||
+              (std::isfinite(*known_speed_mm_per_s) && *known_speed_mm_per_s > 0.0),
+          "StageRangeErrorOptions::known_speed_mm_per_s must be > 0");
 }
 
 StageRangeErrorResult MeasureMarkerRangeErrors(std::span<const StageFrame> frames,
@@ -74,17 +77,38 @@ StageRangeErrorResult MeasureMarkerRangeErrors(std::span<const StageFrame> frame
   const auto n = static_cast<Eigen::Index>(posed.size());
   Eigen::MatrixXd design(n, 2);
   Eigen::MatrixXd positions(n, 3);
+  // PnP's depth comes from the structure's image size: its noise grows as range^2, so frames are
+  // weighted by 1 / range^4 (weighted least squares). Unweighted, the far frames' noise tilted
+  // the line by ~0.1 mm/s per run, which f_rf then carried as a range-dependent bias.
+  Eigen::VectorXd sqrt_weight(n);
   for (Eigen::Index i = 0; i < n; ++i) {
     const PosedFrame& p = posed[static_cast<std::size_t>(i)];
     design(i, 0) = 1.0;
     design(i, 1) = frames[p.frame].timestamp_s;
     positions.row(i) = p.ahat_from_structure.translation.transpose();
+    const double range_m = 1e-3 * std::max(p.ahat_from_structure.translation.norm(), 1.0);
+    sqrt_weight(i) = 1.0 / (range_m * range_m);
   }
   std::vector<Eigen::Vector3d> on_line(posed.size());
   if (options.constant_speed) {
-    const Eigen::MatrixXd coefficients = design.colPivHouseholderQr().solve(positions);
+    const Eigen::MatrixXd coefficients = (sqrt_weight.asDiagonal() * design)
+                                             .colPivHouseholderQr()
+                                             .solve(sqrt_weight.asDiagonal() * positions);
     result.line_origin_mm = coefficients.row(0).transpose();
     result.line_velocity_mm_per_s = coefficients.row(1).transpose();
+    result.fitted_speed_mm_per_s = result.line_velocity_mm_per_s.norm();
+    if (options.known_speed_mm_per_s && result.fitted_speed_mm_per_s > 0.0) {
+      result.line_velocity_mm_per_s *= *options.known_speed_mm_per_s / result.fitted_speed_mm_per_s;
+      // The origin that minimises the same weighted squares with the velocity fixed.
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      double total = 0.0;
+      for (Eigen::Index i = 0; i < n; ++i) {
+        const double w = sqrt_weight(i) * sqrt_weight(i);
+        sum += w * (positions.row(i).transpose() - result.line_velocity_mm_per_s * design(i, 1));
+        total += w;
+      }
+      result.line_origin_mm = sum / total;
+    }
     for (Eigen::Index i = 0; i < n; ++i) {
       on_line[static_cast<std::size_t>(i)] =
           result.line_origin_mm + result.line_velocity_mm_per_s * design(i, 1);

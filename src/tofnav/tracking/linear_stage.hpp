@@ -2,6 +2,7 @@
 // fit-marker-error data: range errors of a marker structure moved by a linear stage (III-A.1).
 #pragma once
 
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -27,6 +28,11 @@ struct StageRangeErrorOptions {
   /// (noise removed along and across the line); false: positions are projected onto the fitted
   /// 3D line (noise removed across it only).
   bool constant_speed = true;
+  /// The stage's commanded speed [mm/s], when known (constant_speed only): the line keeps the
+  /// fitted direction but moves at this speed, and only its origin is fitted. PnP's depth noise
+  /// (growing as range^2) otherwise leaves the fitted speed off by ~0.1 % per run, a tilt that
+  /// f_rf then carries as a range-dependent bias.
+  std::optional<double> known_speed_mm_per_s;
   double max_line_residual_mm = 3.0;  // frames whose PnP position is farther from the line drop
   int min_frames = 10;
   void Check() const;  // throws std::invalid_argument naming the bad field
@@ -40,6 +46,8 @@ struct StageRangeErrorResult {
   Eigen::Vector3d line_velocity_mm_per_s = Eigen::Vector3d::Zero();  // or unit direction
   Eigen::Quaterniond ahat_from_structure_rotation = Eigen::Quaterniond::Identity();  // mean
   double line_rms_mm = 0.0;  // RMS distance of the per-frame PnP positions from the line
+  double fitted_speed_mm_per_s =
+      0.0;  // of the free line fit (constant_speed), before any known speed
   int frames_used = 0;
 };
 

@@ -5,6 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstdio>
 #include <random>
 
 #include "tofnav/sim/material.hpp"
@@ -55,6 +57,49 @@ TEST(MeasureMarkerRangeErrors, RecoversTheRangeErrorCurveFromRaysAndBiasedRanges
   }
   EXPECT_THROW(MeasureMarkerRangeErrors(std::span(frames).first(3), structure),
                std::invalid_argument);
+}
+
+TEST(MeasureMarkerRangeErrors, AKnownStageSpeedLeavesOnlyTheOriginToFit) {
+  constexpr double kSpeedMmPerS = 35.0;
+  constexpr double kRayNoiseRad = 1e-3;   // ~0.25 px of centroid noise: PnP depth noise of mm
+  constexpr double kEndErrorTolMm = 0.3;  // the origin from 60 PnP positions of mm-level noise
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> ray_noise(0.0, kRayNoiseRad);
+  const ToolGeometry structure = testing::StageStructure(0.0);
+  const auto truth = [&](double t) { return Eigen::Vector3d(8.0, -6.0, 290.0 + kSpeedMmPerS * t); };
+  std::vector<StageFrame> frames;
+  for (int f = 0; f < 60; ++f) {
+    const double t = 0.2 * f;
+    const Rigid3d pose = testing::FacingToolPose(truth(t), 0.0, 0.0);
+    StageFrame frame{t, {}};
+    for (const Eigen::Vector3d& m : structure.markers_in_tool) {
+      const Eigen::Vector3d c = pose * m;
+      DetectedMarker d;
+      d.ray_in_ahat =
+          (c.normalized() + Eigen::Vector3d(ray_noise(rng), ray_noise(rng), 0.0)).normalized();
+      d.surface_range_mm = c.norm();
+      frame.markers.push_back(d);
+    }
+    frames.push_back(frame);
+  }
+  StageRangeErrorOptions options;
+  options.max_line_residual_mm = 50.0;  // keep every frame of this noisy run
+  const StageRangeErrorResult free = MeasureMarkerRangeErrors(frames, structure, options);
+  options.known_speed_mm_per_s = kSpeedMmPerS;
+  const StageRangeErrorResult known = MeasureMarkerRangeErrors(frames, structure, options);
+  EXPECT_NEAR(known.line_velocity_mm_per_s.norm(), kSpeedMmPerS, 1e-9);
+  EXPECT_NEAR(known.fitted_speed_mm_per_s, free.line_velocity_mm_per_s.norm(), 1e-9);
+  const auto end_error = [&](const StageRangeErrorResult& r) {
+    double worst = 0.0;
+    for (const double t : {0.0, 11.8}) {
+      worst = std::max(worst, (r.line_origin_mm + r.line_velocity_mm_per_s * t - truth(t)).norm());
+    }
+    return worst;
+  };
+  std::printf("line error at the ends: free %.3f mm, known speed %.3f mm\n", end_error(free),
+              end_error(known));
+  EXPECT_LT(end_error(known), kEndErrorTolMm);
+  EXPECT_LT(end_error(known), end_error(free));
 }
 
 }  // namespace
