@@ -98,6 +98,9 @@ double SphereToolPositionRms(sim::RetroCurve curve, const MarkerRangeModel& mode
 TEST(MarkerRangeAcceptance, FrfFittedFromAStageRecordingRemovesTheRangeBias) {
   constexpr double kMaxSpherePositionRmsMm = 0.25;
   constexpr double kMaxBiasMm = 0.2;  // the target, with a 4 mm f_rf span
+  // The stage reference's own depth bias: +0.02 mm with the reference centroid's rays, +0.09 mm
+  // with the AB-weighted centroid's (pulled towards the image centre by the illumination).
+  constexpr double kMaxReferenceBiasMm = 0.05;
   for (const sim::RetroCurve curve : {sim::RetroCurve::kLinear, sim::RetroCurve::kSigmoid}) {
     std::mt19937_64 rng(static_cast<std::uint64_t>(curve));
     std::vector<StageFrame> frames;
@@ -117,6 +120,7 @@ TEST(MarkerRangeAcceptance, FrfFittedFromAStageRecordingRemovesTheRangeBias) {
     }
     std::printf("PnP + line reference depth error: mean %+.3f mm, RMS %.3f mm\n",
                 testing::Mean(reference_error), testing::Rms(reference_error));
+    EXPECT_LE(std::abs(testing::Mean(reference_error)), kMaxReferenceBiasMm);
     const MarkerRangeFitResult fit = FitMarkerRangeModel(stage.samples);
     std::printf(
         "curve %d: %d frames, %zu samples, line RMS %.3f mm, p %.3g, dof %.1f, residual "

@@ -18,6 +18,9 @@ namespace tofnav {
 namespace {
 
 constexpr double kMaxAbCounts = 65535.0;
+// Blob pixels at or above this fraction of the peak AB count as fully covered by the marker in
+// the reference centroid (DetectedMarker::reference_ray_in_ahat).
+constexpr double kFullCoverageOfPeak = 0.5;
 
 bool ValidRange(std::uint16_t range_mm) { return range_mm > 0 && range_mm < kAhatInvalidRange; }
 
@@ -95,13 +98,16 @@ class BlobMeasurer {
     DetectedMarker marker;
     marker.area_px = blob.area_px;
     marker.ab_peak = blob.ab_peak;
-    marker.pixel = WeightedCentroid(runs);
+    marker.pixel = WeightedCentroid(runs, INFINITY);
     const std::optional<Eigen::Vector3d> ray = camera_.Ray(marker.pixel);
-    if (!ray) {
+    const std::optional<Eigen::Vector3d> reference_ray =
+        camera_.Ray(WeightedCentroid(runs, kFullCoverageOfPeak * blob.ab_peak));
+    if (!ray || !reference_ray) {
       ++rejected.invalid_ray;
       return std::nullopt;
     }
     marker.ray_in_ahat = ray->normalized();
+    marker.reference_ray_in_ahat = reference_ray->normalized();
     const double core_level = std::max(threshold_, options_.core_ab_fraction * blob.ab_peak);
     GatherCore(runs, core_level, marker);
     if (static_cast<int>(marker.core.size()) < options_.min_range_px) GatherCore(runs, 0.0, marker);
@@ -132,13 +138,16 @@ class BlobMeasurer {
   // their coverage, so edges are sub-pixel; the clipped PSF tail is symmetric. The illumination
   // fall-off across a blob (cos^p of the off-axis angle, 1 / d^2) pulls it towards the image
   // centre by ~2e-4 of the off-axis distance (tracking.md 6.2 accepts this; see the stage test).
-  Eigen::Vector2d WeightedCentroid(std::span<const PixelRun> runs) const {
+  // Weights are capped at that of AB = `full_ab` (INFINITY: no cap; see
+  // DetectedMarker::reference_ray_in_ahat).
+  Eigen::Vector2d WeightedCentroid(std::span<const PixelRun> runs, double full_ab) const {
+    const double cap = std::max(full_ab - threshold_ + 1.0, 1.0);
     double sum_w = 0.0, sum_u = 0.0, sum_v = 0.0;
     for (const PixelRun& r : runs) {
       const std::uint16_t* row = &frame_.ab(0, r.v);
       double row_w = 0.0;
       for (int u = r.u_begin; u < r.u_end; ++u) {
-        const double w = row[u] - threshold_ + 1.0;
+        const double w = std::min(row[u] - threshold_ + 1.0, cap);
         row_w += w;
         sum_u += w * u;
       }

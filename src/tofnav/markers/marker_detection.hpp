@@ -48,6 +48,13 @@ struct CoreSample {
 struct DetectedMarker {
   Eigen::Vector2d pixel = Eigen::Vector2d::Zero();  // AB-weighted centroid (centres at integers)
   Eigen::Vector3d ray_in_ahat = Eigen::Vector3d::UnitZ();  // unit ray at `pixel` (bilinear)
+  /// Unit ray at the interior-flat centroid: blob pixels at or above half the peak AB weigh 1,
+  /// dimmer rim pixels by their brightness (partial coverage). The illumination fall-off across
+  /// the blob does not pull it towards the image centre as it pulls `pixel` (a structure posed
+  /// from these rays lies ~0.02 mm too far at 300-700 mm, from `ray_in_ahat` ~0.09 mm), but it is
+  /// noisier: the stage reference (many frames on one line, Eq. 1 data) uses it, tracking does not.
+  /// Zero when not computed (markers made elsewhere): ray_in_ahat stands in.
+  Eigen::Vector3d reference_ray_in_ahat = Eigen::Vector3d::Zero();
   /// Trimmed mean of the core ranges [mm]: the measured surface range, input of Eq. (2).
   double surface_range_mm = 0.0;
   std::vector<CoreSample> core;  // the valid core pixels behind surface_range_mm

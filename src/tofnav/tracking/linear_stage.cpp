@@ -29,7 +29,11 @@ std::optional<PosedFrame> PoseFrame(const StageFrame& frame, std::size_t index,
     const int d = matched.marker_detection[k];
     if (d < 0) continue;
     markers.push_back(structure.markers_in_tool[k]);
-    rays.push_back(frame.markers[static_cast<std::size_t>(d)].ray_in_ahat);
+    // The reference centroid's ray: unbiased by the illumination fall-off, its extra noise
+    // averages out along the run's line.
+    const DetectedMarker& marker = frame.markers[static_cast<std::size_t>(d)];
+    const bool has_reference = marker.reference_ray_in_ahat.squaredNorm() > 0.0;
+    rays.push_back(has_reference ? marker.reference_ray_in_ahat : marker.ray_in_ahat);
   }
   const RayPoseResult pnp =
       EstimatePoseFromRays(markers, rays, *matched.ahat_from_tool, options.ray_pose);
