@@ -65,6 +65,7 @@ int RunReconstruct(int argc, char** argv) {
   app.add_option("--max-incidence-deg", max_incidence_deg,
                  "with --depth-model: drop pixels seen at a larger incidence (their Eq. (4) term "
                  "C3 theta rests on the least reliable normals)")
+      ->check(CLI::Range(1.0, 90.0))
       ->capture_default_str();
   app.add_option("--normal-smoothing-px", correct.normals.smoothing_radius_px,
                  "with --depth-model: range smoothing radius for the normals")
@@ -116,8 +117,10 @@ int RunReconstruct(int argc, char** argv) {
     Require(calibration.has_value(), "the recording has no calibration: give --calibration DIR");
   }
   const AhatCamera camera(*calibration);
-  if (!depth_model_path.empty())
+  if (!depth_model_path.empty()) {
+    correct.max_incidence_rad = max_incidence_deg * std::numbers::pi / 180.0;
     UseDepthModel(ReadDepthModelJson(depth_model_path), options, correct);
+  }
   if (!marker_error_path.empty())
     options.marker_error = ReadMarkerRangeJson(marker_error_path).model;
   const ToolGeometry tool = ReadToolJson(tool_path);

@@ -169,7 +169,8 @@ void DefineOptions(py::module_& m) {
       .def_readwrite("segmentation", &CorrectRangeOptions::segmentation)
       .def_readwrite("normals", &CorrectRangeOptions::normals)
       .def_readwrite("roi_only", &CorrectRangeOptions::roi_only)
-      .def_readwrite("drop_without_normal", &CorrectRangeOptions::drop_without_normal);
+      .def_readwrite("drop_without_normal", &CorrectRangeOptions::drop_without_normal)
+      .def_readwrite("max_incidence_rad", &CorrectRangeOptions::max_incidence_rad);
 }
 
 py::tuple Normals(const ArrayF& range_mm, const AhatCamera& camera,

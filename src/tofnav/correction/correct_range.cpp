@@ -41,6 +41,7 @@ CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
         if (options.drop_without_normal) continue;
         theta = 0.0;
       }
+      if (theta > options.max_incidence_rad) continue;
       const double corrected = model.CorrectRangeMm(d, theta, frame.ab(u, v));
       if (corrected > 0.0) out.range_mm(u, v) = static_cast<float>(corrected);
     }

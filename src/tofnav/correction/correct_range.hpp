@@ -22,6 +22,9 @@ struct CorrectRangeOptions {
   /// Surface pixels without a normal (isolated, or at an edge on both axes) are dropped when
   /// true, else corrected with theta = 0.
   bool drop_without_normal = true;
+  /// Surface pixels seen at a larger incidence are dropped: their C3 theta term rests on the least
+  /// reliable normals [rad]; pi / 2 keeps them all.
+  double max_incidence_rad = 1.5707963267948966;
 };
 
 struct CorrectedFrame {

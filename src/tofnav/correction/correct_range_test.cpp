@@ -88,6 +88,34 @@ TEST(CorrectRangeImage, UndoesAKnownLinearBias) {
   EXPECT_EQ(corrected.range_mm(300, 260), static_cast<float>(frame.range_mm(300, 260)));
 }
 
+TEST(CorrectRangeImage, DropsSurfacePixelsSeenBeyondTheMaximumIncidence) {
+  const DepthErrorModel model = KnownModel();
+  Image<float> truth;
+  const AhatFrame frame = BiasedPlaneFrame(model, truth);
+  CorrectRangeOptions options;
+  options.segmentation.head_region.enabled = false;
+  const CorrectedFrame all = CorrectFrame(frame, CorrectionCamera(), model, options);
+  options.max_incidence_rad = 0.35;  // the plane is tilted 0.4 rad: most of it is seen beyond
+  const CorrectedFrame steep = CorrectFrame(frame, CorrectionCamera(), model, options);
+  int kept = 0, dropped = 0;
+  for (int v = 200; v <= 320; ++v) {
+    for (int u = 200; u <= 320; ++u) {
+      if (all.range_mm(u, v) <= 0.0f) continue;
+      const auto label = static_cast<PixelClass>(all.segmentation.labels(u, v));
+      const float theta = all.normals.incidence_rad(u, v);
+      if (label == PixelClass::kMarker || theta <= 0.35f) {
+        EXPECT_EQ(steep.range_mm(u, v), all.range_mm(u, v));  // markers keep Eq. (2)
+        ++kept;
+      } else {
+        EXPECT_EQ(steep.range_mm(u, v), 0.0f);
+        ++dropped;
+      }
+    }
+  }
+  EXPECT_GT(dropped, 1000);
+  EXPECT_GT(kept, 81);  // the marker and the pixels seen nearly head-on
+}
+
 TEST(DepthErrorModel, CorrectInvertsBias) {
   constexpr double kTolMm = 1e-9;  // exact algebra
   for (const AngleTerm term :
