@@ -129,18 +129,6 @@ Eigen::VectorXd Flatten(const Evaluation& e) {
   return r;
 }
 
-// Median and 1.4826 MAD of values (copied).
-std::pair<double, double> MedianSpread(std::vector<double> v) {
-  const auto median = [](std::vector<double>& x) {
-    const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
-    std::nth_element(x.begin(), mid, x.end());
-    return *mid;
-  };
-  const double m = median(v);
-  for (double& x : v) x = std::abs(x - m);
-  return {m, 1.4826 * median(v)};
-}
-
 // The frames without the marker patches whose median Eq. (6) distance under `model` lies far from
 // every other patch's: markers that are not on the skin (a tool's marker on its plate, whose
 // unbiased surroundings the skin model over-corrects by the whole skin bias; a sticker on hair).

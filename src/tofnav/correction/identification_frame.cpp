@@ -49,19 +49,6 @@ void SetLocalFrame(MarkerPatch& patch) {
   patch.origin_in_ahat = mean;
 }
 
-// Median and MAD-based spread (1.4826 MAD) of values.
-std::pair<double, double> MedianSpread(std::vector<double> v) {
-  if (v.empty()) return {0.0, 0.0};
-  auto median = [](std::vector<double>& x) {
-    const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
-    std::nth_element(x.begin(), mid, x.end());
-    return *mid;
-  };
-  const double m = median(v);
-  for (double& x : v) x = std::abs(x - m);
-  return {m, 1.4826 * median(v)};
-}
-
 // Drops what does not belong to the smooth skin around the marker, judged on the measured points
 // (no model: the bias moves the surface smoothly, it does not make outliers): neighbours off the
 // cubic surface (flying pixels, a sticker seen beyond its retro-reflection cut-off, hair) and
@@ -186,6 +173,18 @@ void IdentificationSampling::Check() const {
     throw std::invalid_argument(
         "IdentificationSampling: need marker_ring_px >= 1 and min_marker_head_fraction in [0, 1]");
   }
+}
+
+std::pair<double, double> MedianSpread(std::vector<double> values) {
+  if (values.empty()) return {0.0, 0.0};
+  const auto median = [](std::vector<double>& x) {
+    const auto mid = x.begin() + static_cast<std::ptrdiff_t>(x.size() / 2);
+    std::nth_element(x.begin(), mid, x.end());
+    return *mid;
+  };
+  const double m = median(values);
+  for (double& x : values) x = std::abs(x - m);
+  return {m, 1.4826 * median(values)};
 }
 
 std::vector<int> EvenSubsample(int count, int max_count) {

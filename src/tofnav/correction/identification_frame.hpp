@@ -6,6 +6,7 @@
 #include <functional>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "tofnav/core/point_cloud.hpp"
@@ -86,5 +87,8 @@ Eigen::Vector3d CorrectedPoint(const SurfaceSample& sample, const DepthErrorMode
 
 /// Indices of at most `max_count` of `count` items, evenly spread (all when count <= max_count).
 std::vector<int> EvenSubsample(int count, int max_count);
+
+/// Median and robust spread (1.4826 x median absolute deviation) of the values; (0, 0) when empty.
+std::pair<double, double> MedianSpread(std::vector<double> values);
 
 }  // namespace tofnav

@@ -15,29 +15,43 @@
 namespace tofnav {
 namespace {
 
-TEST(MeasureMarkerRangeErrors, RecoversTheRangeErrorCurveFromRaysAndBiasedRanges) {
-  constexpr double kRangeNoiseMm = 0.4, kRayNoiseRad = 2e-4;  // ~0.05 px of centroid noise
-  constexpr double kMeanErrorTolMm = 0.12;  // per 100 mm bin: 3 sigma of ~100 samples
-  std::mt19937_64 rng(1);
-  std::normal_distribution<double> range_noise(0.0, kRangeNoiseMm), ray_noise(0.0, kRayNoiseRad);
-  const ToolGeometry structure = testing::StageStructure(0.0);
+// Sixty frames (0.2 s apart) of the structure at `position(t)`, turned by (tilt_x, tilt_y) rad:
+// marker rays with Gaussian noise, ranges = true + `bias(true)` + Gaussian noise.
+template <typename Position, typename Bias>
+std::vector<StageFrame> SyntheticStage(const ToolGeometry& structure, Position position,
+                                       double tilt_x, double tilt_y, Bias bias,
+                                       double ray_noise_rad, double range_noise_mm,
+                                       std::mt19937_64& rng) {
+  std::normal_distribution<double> range_noise, ray_noise;  // standard: scaled below (sigma 0 ok)
   std::vector<StageFrame> frames;
   for (int f = 0; f < 60; ++f) {
-    const double t = 0.2 * f;  // the stage moves 7 mm per frame away from the camera
-    const Rigid3d pose = testing::FacingToolPose({8.0, -6.0, 290.0 + 35.0 * t}, 0.05, 0.1);
+    const double t = 0.2 * f;
+    const Rigid3d pose = testing::FacingToolPose(position(t), tilt_x, tilt_y);
     StageFrame frame{t, {}};
     for (const Eigen::Vector3d& m : structure.markers_in_tool) {
       const Eigen::Vector3d c = pose * m;
       DetectedMarker d;
       d.ray_in_ahat =
-          (c.normalized() + Eigen::Vector3d(ray_noise(rng), ray_noise(rng), 0.0)).normalized();
-      d.surface_range_mm = c.norm() +
-                           sim::RetroRangeBiasMm(sim::RetroCurve::kSigmoid, 4.0, c.norm()) +
-                           range_noise(rng);
+          (c.normalized() + ray_noise_rad * Eigen::Vector3d(ray_noise(rng), ray_noise(rng), 0.0))
+              .normalized();
+      d.surface_range_mm = c.norm() + bias(c.norm()) + range_noise_mm * range_noise(rng);
       frame.markers.push_back(d);
     }
     frames.push_back(frame);
   }
+  return frames;
+}
+
+TEST(MeasureMarkerRangeErrors, RecoversTheRangeErrorCurveFromRaysAndBiasedRanges) {
+  constexpr double kRangeNoiseMm = 0.4, kRayNoiseRad = 2e-4;  // ~0.05 px of centroid noise
+  constexpr double kMeanErrorTolMm = 0.12;  // per 100 mm bin: 3 sigma of ~100 samples
+  std::mt19937_64 rng(1);
+  const ToolGeometry structure = testing::StageStructure(0.0);
+  // The stage moves 7 mm per frame away from the camera.
+  const std::vector<StageFrame> frames = SyntheticStage(
+      structure, [](double t) { return Eigen::Vector3d(8.0, -6.0, 290.0 + 35.0 * t); }, 0.05, 0.1,
+      [](double d) { return sim::RetroRangeBiasMm(sim::RetroCurve::kSigmoid, 4.0, d); },
+      kRayNoiseRad, kRangeNoiseMm, rng);
   const StageRangeErrorResult r = MeasureMarkerRangeErrors(frames, structure);
   EXPECT_EQ(r.frames_used, 60);
   ASSERT_EQ(r.samples.size(), 60u * 7u);
@@ -61,27 +75,13 @@ TEST(MeasureMarkerRangeErrors, RecoversTheRangeErrorCurveFromRaysAndBiasedRanges
 
 TEST(MeasureMarkerRangeErrors, AKnownStageSpeedLeavesOnlyTheOriginToFit) {
   constexpr double kSpeedMmPerS = 35.0;
-  constexpr double kRayNoiseRad = 1e-3;   // ~0.25 px of centroid noise: PnP depth noise of mm
+  constexpr double kRayNoiseRad = 5e-4;   // ~0.12 px of centroid noise: PnP depth noise of mm
   constexpr double kEndErrorTolMm = 0.3;  // the origin from 60 PnP positions of mm-level noise
   std::mt19937_64 rng(3);
-  std::normal_distribution<double> ray_noise(0.0, kRayNoiseRad);
   const ToolGeometry structure = testing::StageStructure(0.0);
   const auto truth = [&](double t) { return Eigen::Vector3d(8.0, -6.0, 290.0 + kSpeedMmPerS * t); };
-  std::vector<StageFrame> frames;
-  for (int f = 0; f < 60; ++f) {
-    const double t = 0.2 * f;
-    const Rigid3d pose = testing::FacingToolPose(truth(t), 0.0, 0.0);
-    StageFrame frame{t, {}};
-    for (const Eigen::Vector3d& m : structure.markers_in_tool) {
-      const Eigen::Vector3d c = pose * m;
-      DetectedMarker d;
-      d.ray_in_ahat =
-          (c.normalized() + Eigen::Vector3d(ray_noise(rng), ray_noise(rng), 0.0)).normalized();
-      d.surface_range_mm = c.norm();
-      frame.markers.push_back(d);
-    }
-    frames.push_back(frame);
-  }
+  const std::vector<StageFrame> frames = SyntheticStage(
+      structure, truth, 0.0, 0.0, [](double) { return 0.0; }, kRayNoiseRad, 0.0, rng);
   StageRangeErrorOptions options;
   options.max_line_residual_mm = 50.0;  // keep every frame of this noisy run
   const StageRangeErrorResult free = MeasureMarkerRangeErrors(frames, structure, options);
