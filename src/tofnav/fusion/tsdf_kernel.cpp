@@ -129,16 +129,12 @@ struct BlockProjection {
 std::optional<BlockProjection> InterpolatedProjection(const PixelLookup::Table& lookup,
                                                       const Eigen::Vector3f& origin,
                                                       const Eigen::Matrix3f& steps, int width,
-                                                      int height) {
+                                                      int height, bool avx2) {
   std::array<float, 8> u{}, v{};
-  for (std::size_t c = 0; c < 8; ++c) {
-    const Eigen::Vector3i corner(c & 1, (c >> 1) & 1, (c >> 2) & 1);
-    const Eigen::Vector3f p = origin + steps * (kLast * corner).cast<float>();
-    const PixelLookup::Position position = lookup.Lookup(p.x(), p.y(), p.z(), p.norm());
-    if (!(position.u >= 0.0f)) return std::nullopt;
-    u[c] = position.u;
-    v[c] = position.v;
-  }
+  const float o[3] = {origin.x(), origin.y(), origin.z()};
+  const bool seen = avx2 ? ProjectCornersAvx2(lookup, o, steps.data(), u.data(), v.data())
+                         : ProjectCorners(lookup, o, steps.data(), u.data(), v.data());
+  if (!seen) return std::nullopt;
   const Eigen::Vector3f centre = origin + steps * Eigen::Vector3f::Constant(0.5f * kLast);
   const PixelLookup::Position exact =
       lookup.Lookup(centre.x(), centre.y(), centre.z(), centre.norm());
@@ -170,15 +166,42 @@ std::optional<BlockProjection> InterpolatedProjection(const PixelLookup::Table& 
 
 /// Largest range in the block's pixel footprint; infinity when the footprint is too large to
 /// scan cheaply (a block very near the camera).
-float FootprintMaxRange(const float* range_mm, int width, const BlockProjection& p) {
+float FootprintMaxRange(const float* range_mm, int width, const BlockProjection& p, bool avx2) {
   constexpr int kMaxScannedPixels = 1024;
   if ((p.u_hi - p.u_lo + 1) * (p.v_hi - p.v_lo + 1) > kMaxScannedPixels) return INFINITY;
+  return avx2 ? MaxRangeInBoxAvx2(range_mm, width, p.u_lo, p.u_hi, p.v_lo, p.v_hi)
+              : MaxRangeInBox(range_mm, width, p.u_lo, p.u_hi, p.v_lo, p.v_hi);
+}
+
+}  // namespace
+
+bool ProjectCorners(const PixelLookup::Table& lookup, const float origin[3], const float steps[9],
+                    float u[8], float v[8]) {
+  for (int c = 0; c < 8; ++c) {
+    // The same operations in the same order as ProjectCornersAvx2's lanes, and as Eigen's
+    // origin + steps * c and norm() (which sum a0 + (a1 + a2)).
+    const auto cx = static_cast<float>(kLast * (c & 1));
+    const auto cy = static_cast<float>(kLast * ((c >> 1) & 1));
+    const auto cz = static_cast<float>(kLast * (c >> 2));
+    float p[3];
+    for (int i = 0; i < 3; ++i)
+      p[i] = origin[i] + (steps[i] * cx + (steps[3 + i] * cy + steps[6 + i] * cz));
+    const float norm = std::sqrt(p[0] * p[0] + (p[1] * p[1] + p[2] * p[2]));
+    const PixelLookup::Position position = lookup.Lookup(p[0], p[1], p[2], norm);
+    if (!(position.u >= 0.0f)) return false;
+    u[c] = position.u;
+    v[c] = position.v;
+  }
+  return true;
+}
+
+float MaxRangeInBox(const float* range_mm, int width, int u_lo, int u_hi, int v_lo, int v_hi) {
   // Cleaned ranges are 0 or positive and finite, whose bit patterns order like the values: an
   // integer maximum, which the compiler vectorises (a float one it may not reorder).
   std::int32_t max_bits = 0;
-  for (int v = p.v_lo; v <= p.v_hi; ++v) {
+  for (int v = v_lo; v <= v_hi; ++v) {
     const float* row = range_mm + v * width;
-    for (int u = p.u_lo; u <= p.u_hi; ++u) {
+    for (int u = u_lo; u <= u_hi; ++u) {
       std::int32_t bits = 0;
       std::memcpy(&bits, row + u, sizeof(bits));
       max_bits = std::max(max_bits, bits);
@@ -188,8 +211,6 @@ float FootprintMaxRange(const float* range_mm, int width, const BlockProjection&
   std::memcpy(&max_range, &max_bits, sizeof(max_range));
   return max_range;
 }
-
-}  // namespace
 
 std::int64_t UpdateRow(const KernelInputs& in, const KernelRow& row, bool interpolated,
                        bool bilinear, float* tsdf, float* weight) {
@@ -232,7 +253,8 @@ std::int64_t FusionFrame::IntegrateBlock(const Eigen::Vector3i& key, TsdfBlock& 
   const auto voxel = static_cast<float>(options_.voxel_size_mm);
   const Eigen::Matrix3f steps = voxel * ahat_from_tool_rotation_;
   const Eigen::Vector3f origin = steps * first.cast<float>() + ahat_from_tool_translation_;
-  const auto projection = InterpolatedProjection(in.lookup, origin, steps, width_, height_);
+  const auto projection =
+      InterpolatedProjection(in.lookup, origin, steps, width_, height_, use_avx2_);
   // Occlusion culling, exact: a voxel is updated only when range - |p| >= -truncation, and a
   // voxel's range is at most the largest range it reads, so voxels (rows, whole blocks) farther
   // than that plus the truncation are left alone without reading the frame (most of a block
@@ -240,7 +262,8 @@ std::int64_t FusionFrame::IntegrateBlock(const Eigen::Vector3i& key, TsdfBlock& 
   constexpr float kCullMarginMm = 0.01f;
   float cull_mm = INFINITY;
   if (projection) {
-    cull_mm = FootprintMaxRange(in.range_mm, width_, *projection) + truncation_mm_ + kCullMarginMm;
+    cull_mm = FootprintMaxRange(in.range_mm, width_, *projection, use_avx2_) + truncation_mm_ +
+              kCullMarginMm;
     const Eigen::Vector3f centre = origin + steps * Eigen::Vector3f::Constant(0.5f * kLast);
     const float half_diagonal = 0.5f * kLast * std::sqrt(3.0f) * voxel;
     if (centre.norm() - half_diagonal > cull_mm) return 0;

@@ -126,9 +126,87 @@ TOFNAV_AVX2 int UpdateLanes(const KernelInputs& in, const Lanes& lanes, float px
   return __builtin_popcount(static_cast<unsigned>(updated));
 }
 
+/// Node `index` (a float index) of a lookup table and the next node along a, interpolated at fa:
+/// PixelLookup::Table::Lookup's n[0].u + fa * (n[1].u - n[0].u) (or .v) in eight lanes.
+TOFNAV_AVX2 __m256 NodeLerp(const float* base, __m256i index, __m256 fa) {
+  const __m256 left = _mm256_i32gather_ps(base, index, 4);
+  const __m256 right = _mm256_i32gather_ps(base + 2, index, 4);
+  return _mm256_add_ps(left, _mm256_mul_ps(fa, _mm256_sub_ps(right, left)));
+}
+
 #undef TOFNAV_AVX2
 
 }  // namespace
+
+__attribute__((target("avx2"))) bool ProjectCornersAvx2(const PixelLookup::Table& lookup,
+                                                        const float origin[3], const float steps[9],
+                                                        float u[8], float v[8]) {
+  // Lane c is corner c: PixelLookup::Table::Lookup's operations, lane by lane.
+  const __m256 cx = _mm256_setr_ps(0.0f, 7.0f, 0.0f, 7.0f, 0.0f, 7.0f, 0.0f, 7.0f);
+  const __m256 cy = _mm256_setr_ps(0.0f, 0.0f, 7.0f, 7.0f, 0.0f, 0.0f, 7.0f, 7.0f);
+  const __m256 cz = _mm256_setr_ps(0.0f, 0.0f, 0.0f, 0.0f, 7.0f, 7.0f, 7.0f, 7.0f);
+  // Eigen's order (steps * c, then |p|): a0 + (a1 + a2).
+  __m256 p[3];
+  for (int i = 0; i < 3; ++i) {
+    const __m256 yz = _mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(steps[3 + i]), cy),
+                                    _mm256_mul_ps(_mm256_set1_ps(steps[6 + i]), cz));
+    p[i] = _mm256_add_ps(_mm256_set1_ps(origin[i]),
+                         _mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(steps[i]), cx), yz));
+  }
+  const __m256 norm = _mm256_sqrt_ps(
+      _mm256_add_ps(_mm256_mul_ps(p[0], p[0]),
+                    _mm256_add_ps(_mm256_mul_ps(p[1], p[1]), _mm256_mul_ps(p[2], p[2]))));
+  const __m256 s = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_add_ps(p[2], norm));
+  const __m256 inverse_step = _mm256_set1_ps(lookup.inverse_step);
+  const __m256 a = _mm256_mul_ps(
+      _mm256_sub_ps(_mm256_mul_ps(p[0], s), _mm256_set1_ps(lookup.min_a)), inverse_step);
+  const __m256 b = _mm256_mul_ps(
+      _mm256_sub_ps(_mm256_mul_ps(p[1], s), _mm256_set1_ps(lookup.min_b)), inverse_step);
+  const __m256 zero = _mm256_setzero_ps();
+  const __m256 seen = _mm256_and_ps(
+      _mm256_and_ps(_mm256_cmp_ps(a, zero, _CMP_GE_OQ), _mm256_cmp_ps(b, zero, _CMP_GE_OQ)),
+      _mm256_and_ps(_mm256_cmp_ps(a, _mm256_set1_ps(lookup.max_a), _CMP_LT_OQ),
+                    _mm256_cmp_ps(b, _mm256_set1_ps(lookup.max_b), _CMP_LT_OQ)));
+  if (_mm256_movemask_ps(seen) != 0xFF) return false;
+  const __m256i ia = _mm256_cvttps_epi32(a), ib = _mm256_cvttps_epi32(b);
+  const __m256 fa = _mm256_sub_ps(a, _mm256_cvtepi32_ps(ia));
+  const __m256 fb = _mm256_sub_ps(b, _mm256_cvtepi32_ps(ib));
+  // Nodes are (u, v) float pairs: node k's u is float 2 k, its v float 2 k + 1.
+  const __m256i n = _mm256_slli_epi32(
+      _mm256_add_epi32(_mm256_mullo_epi32(ib, _mm256_set1_epi32(lookup.stride)), ia), 1);
+  const __m256i m = _mm256_add_epi32(n, _mm256_set1_epi32(2 * lookup.stride));
+  const float* node_u = &lookup.nodes[0].u;
+  const float* node_v = &lookup.nodes[0].v;
+  const __m256 u0 = NodeLerp(node_u, n, fa), u1 = NodeLerp(node_u, m, fa);
+  const __m256 v0 = NodeLerp(node_v, n, fa), v1 = NodeLerp(node_v, m, fa);
+  const __m256 u_lanes = _mm256_add_ps(u0, _mm256_mul_ps(fb, _mm256_sub_ps(u1, u0)));
+  // Nodes outside the valid region hold NaN.
+  if (_mm256_movemask_ps(_mm256_cmp_ps(u_lanes, zero, _CMP_GE_OQ)) != 0xFF) return false;
+  _mm256_storeu_ps(u, u_lanes);
+  _mm256_storeu_ps(v, _mm256_add_ps(v0, _mm256_mul_ps(fb, _mm256_sub_ps(v1, v0))));
+  return true;
+}
+
+__attribute__((target("avx2"))) float MaxRangeInBoxAvx2(const float* range_mm, int width, int u_lo,
+                                                        int u_hi, int v_lo, int v_hi) {
+  // Ranges are 0 or positive and finite: the maximum of their bit patterns is theirs, exactly.
+  // The masked loads read only the pixels in the box.
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  __m256i max_bits = _mm256_setzero_si256();
+  for (int v = v_lo; v <= v_hi; ++v) {
+    const float* row = range_mm + v * width;
+    for (int u = u_lo; u <= u_hi; u += 8) {
+      const __m256i mask = _mm256_cmpgt_epi32(_mm256_set1_epi32(u_hi - u + 1), lane);
+      const __m256i bits = _mm256_maskload_epi32(reinterpret_cast<const int*>(row + u), mask);
+      max_bits = _mm256_max_epi32(max_bits, bits);
+    }
+  }
+  const __m128i half =
+      _mm_max_epi32(_mm256_castsi256_si128(max_bits), _mm256_extracti128_si256(max_bits, 1));
+  const __m128i quarter = _mm_max_epi32(half, _mm_shuffle_epi32(half, 0x4E));
+  const __m128i one = _mm_max_epi32(quarter, _mm_shuffle_epi32(quarter, 0xB1));
+  return _mm_cvtss_f32(_mm_castsi128_ps(one));
+}
 
 __attribute__((target("avx2"))) std::int64_t UpdateInterpolatedRowAvx2(const KernelInputs& in,
                                                                        const KernelRow& row,
@@ -165,6 +243,14 @@ bool CpuHasAvx2() { return false; }
 std::int64_t UpdateInterpolatedRowAvx2(const KernelInputs&, const KernelRow&, bool, float*,
                                        float*) {
   throw std::logic_error("UpdateInterpolatedRowAvx2: not an x86-64 build");
+}
+
+bool ProjectCornersAvx2(const PixelLookup::Table&, const float*, const float*, float*, float*) {
+  throw std::logic_error("ProjectCornersAvx2: not an x86-64 build");
+}
+
+float MaxRangeInBoxAvx2(const float*, int, int, int, int, int) {
+  throw std::logic_error("MaxRangeInBoxAvx2: not an x86-64 build");
 }
 
 std::int64_t UpdateInterpolatedBlockAvx2(const KernelInputs&, const BlockRows&, bool, float*,
