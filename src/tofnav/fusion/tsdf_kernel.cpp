@@ -85,7 +85,7 @@ std::int64_t UpdateRowT(const KernelInputs in, const KernelRow row, float* __res
 /// cxyz tx ty tz, with the corners indexed x | y << 1 | z << 2.
 struct Trilinear {
   float c0, cx, cy, cz, cxy, cxz, cyz, cxyz;
-  explicit Trilinear(const std::array<float, 8>& q)
+  explicit Trilinear(const float* q)
       : c0(q[0]),
         cx(q[1] - q[0]),
         cy(q[2] - q[0]),
@@ -130,14 +130,12 @@ std::optional<BlockProjection> InterpolatedProjection(const PixelLookup::Table& 
                                                       const Eigen::Vector3f& origin,
                                                       const Eigen::Matrix3f& steps, int width,
                                                       int height, bool avx2) {
-  std::array<float, 8> u{}, v{};
+  float u[9], v[9];  // eight corners and the centre
   const float o[3] = {origin.x(), origin.y(), origin.z()};
-  const bool seen = avx2 ? ProjectCornersAvx2(lookup, o, steps.data(), u.data(), v.data())
-                         : ProjectCorners(lookup, o, steps.data(), u.data(), v.data());
+  const bool seen = avx2 ? ProjectCornersAvx2(lookup, o, steps.data(), u, v)
+                         : ProjectCorners(lookup, o, steps.data(), u, v);
   if (!seen) return std::nullopt;
-  const Eigen::Vector3f centre = origin + steps * Eigen::Vector3f::Constant(0.5f * kLast);
-  const PixelLookup::Position exact =
-      lookup.Lookup(centre.x(), centre.y(), centre.z(), centre.norm());
+  const PixelLookup::Position exact{u[8], v[8]};
   const Trilinear tu(u), tv(v);
   const float mid_u = tu.Row(0.5f, 0.5f).first + 0.5f * kLast * tu.Row(0.5f, 0.5f).second;
   const float mid_v = tv.Row(0.5f, 0.5f).first + 0.5f * kLast * tv.Row(0.5f, 0.5f).second;
@@ -145,8 +143,8 @@ std::optional<BlockProjection> InterpolatedProjection(const PixelLookup::Table& 
         std::abs(exact.v - mid_v) <= kMaxInterpolationErrorPx)) {
     return std::nullopt;
   }
-  const auto [u_min, u_max] = std::minmax_element(u.begin(), u.end());
-  const auto [v_min, v_max] = std::minmax_element(v.begin(), v.end());
+  const auto [u_min, u_max] = std::minmax_element(u, u + 8);
+  const auto [v_min, v_max] = std::minmax_element(v, v + 8);
   // The kernel reads pixels min(floor(u), width - 2) and the one after. Its u and v are the
   // corners' interpolation up to rounding: the margin keeps the footprint a bound.
   constexpr float kMarginPx = 0.01f;
@@ -176,19 +174,21 @@ float FootprintMaxRange(const float* range_mm, int width, const BlockProjection&
 }  // namespace
 
 bool ProjectCorners(const PixelLookup::Table& lookup, const float origin[3], const float steps[9],
-                    float u[8], float v[8]) {
-  for (int c = 0; c < 8; ++c) {
-    // The same operations in the same order as ProjectCornersAvx2's lanes, and as Eigen's
-    // origin + steps * c and norm() (which sum a0 + (a1 + a2)).
-    const auto cx = static_cast<float>(kLast * (c & 1));
-    const auto cy = static_cast<float>(kLast * ((c >> 1) & 1));
-    const auto cz = static_cast<float>(kLast * (c >> 2));
+                    float u[9], float v[9]) {
+  // Corner c, then the centre (c = 8): the same operations in the same order as
+  // ProjectCornersAvx2's lanes, and as Eigen's origin + steps * c and norm() (which sum
+  // a0 + (a1 + a2)).
+  for (int c = 0; c < 9; ++c) {
+    const float half = 0.5f * kLast;
+    const float cx = c == 8 ? half : static_cast<float>(kLast * (c & 1));
+    const float cy = c == 8 ? half : static_cast<float>(kLast * ((c >> 1) & 1));
+    const float cz = c == 8 ? half : static_cast<float>(kLast * (c >> 2));
     float p[3];
     for (int i = 0; i < 3; ++i)
       p[i] = origin[i] + (steps[i] * cx + (steps[3 + i] * cy + steps[6 + i] * cz));
     const float norm = std::sqrt(p[0] * p[0] + (p[1] * p[1] + p[2] * p[2]));
     const PixelLookup::Position position = lookup.Lookup(p[0], p[1], p[2], norm);
-    if (!(position.u >= 0.0f)) return false;
+    if (c < 8 && !(position.u >= 0.0f)) return false;
     u[c] = position.u;
     v[c] = position.v;
   }

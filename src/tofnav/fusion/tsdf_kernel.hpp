@@ -42,9 +42,11 @@ struct BlockRows {
 
 /// The pixel positions (u[c], v[c]) of a block's eight corner voxels c = x | y << 1 | z << 2,
 /// x, y, z in {0, 1}: the points origin + 7 (x steps[0..2] + y steps[3..5] + z steps[6..8]) in
-/// `ahat` (steps: the block's voxel steps along its axes). False when a corner is not seen.
+/// `ahat` (steps: the block's voxel steps along its axes), and (u[8], v[8]) of its centre
+/// origin + 3.5 (steps[0..2] + steps[3..5] + steps[6..8]), NaN when unseen. False when a corner
+/// is not seen.
 bool ProjectCorners(const PixelLookup::Table& lookup, const float origin[3], const float steps[9],
-                    float u[8], float v[8]);
+                    float u[9], float v[9]);
 /// Largest value of a cleaned range image (0 or positive, finite) over the pixels
 /// [u_lo, u_hi] x [v_lo, v_hi].
 float MaxRangeInBox(const float* range_mm, int width, int u_lo, int u_hi, int v_lo, int v_hi);

@@ -127,25 +127,21 @@ TOFNAV_AVX2 int UpdateLanes(const KernelInputs& in, const Lanes& lanes, float px
 }
 
 /// Node `index` (a float index) of a lookup table and the next node along a, interpolated at fa:
-/// PixelLookup::Table::Lookup's n[0].u + fa * (n[1].u - n[0].u) (or .v) in eight lanes.
-TOFNAV_AVX2 __m256 NodeLerp(const float* base, __m256i index, __m256 fa) {
-  const __m256 left = _mm256_i32gather_ps(base, index, 4);
-  const __m256 right = _mm256_i32gather_ps(base + 2, index, 4);
+/// PixelLookup::Table::Lookup's n[0].u + fa * (n[1].u - n[0].u) (or .v) in eight lanes; NaN
+/// outside `lanes`.
+TOFNAV_AVX2 __m256 NodeLerp(const float* base, __m256i index, __m256 fa, __m256 lanes) {
+  const __m256 nan = _mm256_set1_ps(PixelLookup::kNaN);
+  const __m256 left = _mm256_mask_i32gather_ps(nan, base, index, lanes, 4);
+  const __m256 right = _mm256_mask_i32gather_ps(nan, base + 2, index, lanes, 4);
   return _mm256_add_ps(left, _mm256_mul_ps(fa, _mm256_sub_ps(right, left)));
 }
 
-#undef TOFNAV_AVX2
-
-}  // namespace
-
-__attribute__((target("avx2"))) bool ProjectCornersAvx2(const PixelLookup::Table& lookup,
-                                                        const float origin[3], const float steps[9],
-                                                        float u[8], float v[8]) {
-  // Lane c is corner c: PixelLookup::Table::Lookup's operations, lane by lane.
-  const __m256 cx = _mm256_setr_ps(0.0f, 7.0f, 0.0f, 7.0f, 0.0f, 7.0f, 0.0f, 7.0f);
-  const __m256 cy = _mm256_setr_ps(0.0f, 0.0f, 7.0f, 7.0f, 0.0f, 0.0f, 7.0f, 7.0f);
-  const __m256 cz = _mm256_setr_ps(0.0f, 0.0f, 0.0f, 0.0f, 7.0f, 7.0f, 7.0f, 7.0f);
-  // Eigen's order (steps * c, then |p|): a0 + (a1 + a2).
+/// PixelLookup::Table::Lookup of the points origin + (steps[0..2] cx + (steps[3..5] cy +
+/// steps[6..8] cz)) (Eigen's order for origin + steps * c), lane by lane, with the same
+/// operations in the same order; NaN in the lanes that no pixel sees.
+TOFNAV_AVX2 void LookupLanes(const PixelLookup::Table& lookup, const float origin[3],
+                             const float steps[9], __m256 cx, __m256 cy, __m256 cz, __m256& u,
+                             __m256& v) {
   __m256 p[3];
   for (int i = 0; i < 3; ++i) {
     const __m256 yz = _mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(steps[3 + i]), cy),
@@ -167,23 +163,47 @@ __attribute__((target("avx2"))) bool ProjectCornersAvx2(const PixelLookup::Table
       _mm256_and_ps(_mm256_cmp_ps(a, zero, _CMP_GE_OQ), _mm256_cmp_ps(b, zero, _CMP_GE_OQ)),
       _mm256_and_ps(_mm256_cmp_ps(a, _mm256_set1_ps(lookup.max_a), _CMP_LT_OQ),
                     _mm256_cmp_ps(b, _mm256_set1_ps(lookup.max_b), _CMP_LT_OQ)));
-  if (_mm256_movemask_ps(seen) != 0xFF) return false;
   const __m256i ia = _mm256_cvttps_epi32(a), ib = _mm256_cvttps_epi32(b);
   const __m256 fa = _mm256_sub_ps(a, _mm256_cvtepi32_ps(ia));
   const __m256 fb = _mm256_sub_ps(b, _mm256_cvtepi32_ps(ib));
-  // Nodes are (u, v) float pairs: node k's u is float 2 k, its v float 2 k + 1.
+  // Nodes are (u, v) float pairs: node k's u is float 2 k, its v float 2 k + 1. Lanes outside
+  // the table gather nothing (their indices are garbage).
   const __m256i n = _mm256_slli_epi32(
       _mm256_add_epi32(_mm256_mullo_epi32(ib, _mm256_set1_epi32(lookup.stride)), ia), 1);
   const __m256i m = _mm256_add_epi32(n, _mm256_set1_epi32(2 * lookup.stride));
   const float* node_u = &lookup.nodes[0].u;
   const float* node_v = &lookup.nodes[0].v;
-  const __m256 u0 = NodeLerp(node_u, n, fa), u1 = NodeLerp(node_u, m, fa);
-  const __m256 v0 = NodeLerp(node_v, n, fa), v1 = NodeLerp(node_v, m, fa);
-  const __m256 u_lanes = _mm256_add_ps(u0, _mm256_mul_ps(fb, _mm256_sub_ps(u1, u0)));
-  // Nodes outside the valid region hold NaN.
-  if (_mm256_movemask_ps(_mm256_cmp_ps(u_lanes, zero, _CMP_GE_OQ)) != 0xFF) return false;
-  _mm256_storeu_ps(u, u_lanes);
-  _mm256_storeu_ps(v, _mm256_add_ps(v0, _mm256_mul_ps(fb, _mm256_sub_ps(v1, v0))));
+  const __m256 u0 = NodeLerp(node_u, n, fa, seen), u1 = NodeLerp(node_u, m, fa, seen);
+  const __m256 v0 = NodeLerp(node_v, n, fa, seen), v1 = NodeLerp(node_v, m, fa, seen);
+  u = _mm256_add_ps(u0, _mm256_mul_ps(fb, _mm256_sub_ps(u1, u0)));
+  v = _mm256_add_ps(v0, _mm256_mul_ps(fb, _mm256_sub_ps(v1, v0)));
+}
+
+#undef TOFNAV_AVX2
+
+}  // namespace
+
+__attribute__((target("avx2"))) bool ProjectCornersAvx2(const PixelLookup::Table& lookup,
+                                                        const float origin[3], const float steps[9],
+                                                        float u[9], float v[9]) {
+  // Lane c is corner c; the centre takes a second, independent pass (its latency overlaps).
+  const __m256 seven = _mm256_set1_ps(7.0f), zero = _mm256_setzero_ps();
+  const __m256 cx =
+      _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, -1, 0, -1, 0, -1, 0, -1)));
+  const __m256 cy =
+      _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, 0, -1, -1, 0, 0, -1, -1)));
+  const __m256 cz =
+      _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, 0, 0, 0, -1, -1, -1, -1)));
+  const __m256 half = _mm256_set1_ps(3.5f);
+  __m256 corner_u, corner_v, centre_u, centre_v;
+  LookupLanes(lookup, origin, steps, cx, cy, cz, corner_u, corner_v);
+  LookupLanes(lookup, origin, steps, half, half, half, centre_u, centre_v);
+  // Unseen lanes are NaN, which fails the comparison.
+  if (_mm256_movemask_ps(_mm256_cmp_ps(corner_u, zero, _CMP_GE_OQ)) != 0xFF) return false;
+  _mm256_storeu_ps(u, corner_u);
+  _mm256_storeu_ps(v, corner_v);
+  u[8] = _mm256_cvtss_f32(centre_u);
+  v[8] = _mm256_cvtss_f32(centre_v);
   return true;
 }
 

@@ -100,6 +100,10 @@ IntegrateResult TsdfVolume::Integrate(const Image<float>& range_mm,
   std::vector<std::int64_t> updated(touched.size(), 0);
   ParallelFor(0, static_cast<std::int64_t>(touched.size()), [&](std::int64_t i) {
     const auto k = static_cast<std::size_t>(i);
+    if (k + 1 < ids.size()) {
+      const auto* next = reinterpret_cast<const char*>(&blocks_[ids[k + 1]]);
+      for (std::size_t b = 0; b < sizeof(TsdfBlock); b += 64) __builtin_prefetch(next + b, 1);
+    }
     updated[k] = frame_->IntegrateBlock(touched[k], blocks_[ids[k]]);
   });
   for (const std::int64_t n : updated) result.voxels_updated += n;
