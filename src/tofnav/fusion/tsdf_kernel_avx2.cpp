@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Internal to TsdfVolume: the interpolated voxel-row update with AVX2 (runtime dispatch).
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <stdexcept>
@@ -186,7 +187,7 @@ TOFNAV_AVX2 void LookupLanes(const PixelLookup::Table& lookup, const float origi
 __attribute__((target("avx2"))) bool ProjectCornersAvx2(const PixelLookup::Table& lookup,
                                                         const float origin[3], const float steps[9],
                                                         float u[9], float v[9]) {
-  // Lane c is corner c; the centre takes a second, independent pass (its latency overlaps).
+  // Lane c is corner c.
   const __m256 seven = _mm256_set1_ps(7.0f), zero = _mm256_setzero_ps();
   const __m256 cx =
       _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, -1, 0, -1, 0, -1, 0, -1)));
@@ -194,16 +195,21 @@ __attribute__((target("avx2"))) bool ProjectCornersAvx2(const PixelLookup::Table
       _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, 0, -1, -1, 0, 0, -1, -1)));
   const __m256 cz =
       _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, 0, 0, 0, -1, -1, -1, -1)));
-  const __m256 half = _mm256_set1_ps(3.5f);
-  __m256 corner_u, corner_v, centre_u, centre_v;
+  __m256 corner_u, corner_v;
   LookupLanes(lookup, origin, steps, cx, cy, cz, corner_u, corner_v);
-  LookupLanes(lookup, origin, steps, half, half, half, centre_u, centre_v);
   // Unseen lanes are NaN, which fails the comparison.
   if (_mm256_movemask_ps(_mm256_cmp_ps(corner_u, zero, _CMP_GE_OQ)) != 0xFF) return false;
   _mm256_storeu_ps(u, corner_u);
   _mm256_storeu_ps(v, corner_v);
-  u[8] = _mm256_cvtss_f32(centre_u);
-  v[8] = _mm256_cvtss_f32(centre_v);
+  // The centre: one point, scalar (a gather pass for one lane costs more).
+  constexpr float kHalf = 3.5f;
+  float p[3];
+  for (int i = 0; i < 3; ++i)
+    p[i] = origin[i] + (steps[i] * kHalf + (steps[3 + i] * kHalf + steps[6 + i] * kHalf));
+  const PixelLookup::Position centre =
+      lookup.Lookup(p[0], p[1], p[2], std::sqrt(p[0] * p[0] + (p[1] * p[1] + p[2] * p[2])));
+  u[8] = centre.u;
+  v[8] = centre.v;
   return true;
 }
 
