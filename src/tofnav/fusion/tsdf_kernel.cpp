@@ -232,6 +232,20 @@ std::int64_t UpdateRow(const KernelInputs& in, const KernelRow& row, bool interp
                   : UpdateRowT<false, false, false>(in, row, tsdf, weight);
 }
 
+std::pair<Eigen::Matrix3f, Eigen::Vector3f> FusionFrame::BlockInAhat(
+    const Eigen::Vector3i& key) const {
+  const Eigen::Matrix3f steps =
+      static_cast<float>(options_.voxel_size_mm) * ahat_from_tool_rotation_;
+  return {steps, steps * (kTsdfBlockSide * key).cast<float>() + ahat_from_tool_translation_};
+}
+
+void FusionFrame::PrefetchBlock(const Eigen::Vector3i& key) const {
+  if (!use_avx2_) return;
+  const auto [steps, origin] = BlockInAhat(key);
+  const float o[3] = {origin.x(), origin.y(), origin.z()};
+  PrefetchCornerNodesAvx2(lookup_.table(), o, steps.data());
+}
+
 std::int64_t FusionFrame::IntegrateBlock(const Eigen::Vector3i& key, TsdfBlock& block) const {
   // Voxel range of this block inside the ROI.
   const Eigen::Vector3i first = kTsdfBlockSide * key;
@@ -249,10 +263,8 @@ std::int64_t FusionFrame::IntegrateBlock(const Eigen::Vector3i& key, TsdfBlock& 
                         1.0f / truncation_mm_,
                         max_step_mm_,
                         static_cast<float>(options_.max_weight)};
-  // Voxel (x, y, z) of the block is centred at origin + steps * (x, y, z) in `ahat`.
   const auto voxel = static_cast<float>(options_.voxel_size_mm);
-  const Eigen::Matrix3f steps = voxel * ahat_from_tool_rotation_;
-  const Eigen::Vector3f origin = steps * first.cast<float>() + ahat_from_tool_translation_;
+  const auto [steps, origin] = BlockInAhat(key);
   const auto projection =
       InterpolatedProjection(in.lookup, origin, steps, width_, height_, use_avx2_);
   // Occlusion culling, exact: a voxel is updated only when range - |p| >= -truncation, and a

@@ -67,6 +67,9 @@ std::int64_t UpdateInterpolatedRowAvx2(const KernelInputs& in, const KernelRow& 
 bool ProjectCornersAvx2(const PixelLookup::Table& lookup, const float origin[3],
                         const float steps[9], float u[8], float v[8]);
 float MaxRangeInBoxAvx2(const float* range_mm, int width, int u_lo, int u_hi, int v_lo, int v_hi);
+/// Prefetches the lookup nodes that ProjectCornersAvx2 will read for these corners.
+void PrefetchCornerNodesAvx2(const PixelLookup::Table& lookup, const float origin[3],
+                             const float steps[9]);
 /// UpdateInterpolatedRowAvx2 over the active rows of a block (`tsdf`, `weight`: 512 entries).
 std::int64_t UpdateInterpolatedBlockAvx2(const KernelInputs& in, const BlockRows& rows,
                                          bool bilinear, float* tsdf, float* weight);

@@ -137,12 +137,12 @@ TOFNAV_AVX2 __m256 NodeLerp(const float* base, __m256i index, __m256 fa, __m256 
   return _mm256_add_ps(left, _mm256_mul_ps(fa, _mm256_sub_ps(right, left)));
 }
 
-/// PixelLookup::Table::Lookup of the points origin + (steps[0..2] cx + (steps[3..5] cy +
-/// steps[6..8] cz)) (Eigen's order for origin + steps * c), lane by lane, with the same
-/// operations in the same order; NaN in the lanes that no pixel sees.
-TOFNAV_AVX2 void LookupLanes(const PixelLookup::Table& lookup, const float origin[3],
-                             const float steps[9], __m256 cx, __m256 cy, __m256 cz, __m256& u,
-                             __m256& v) {
+/// The points origin + (steps[0..2] cx + (steps[3..5] cy + steps[6..8] cz)) (Eigen's order for
+/// origin + steps * c) on the lookup table's node grid (a, b), as PixelLookup::Table::Lookup
+/// computes them; returns the lanes inside the grid.
+TOFNAV_AVX2 __m256 PlanePosition(const PixelLookup::Table& lookup, const float origin[3],
+                                 const float steps[9], __m256 cx, __m256 cy, __m256 cz, __m256& a,
+                                 __m256& b) {
   __m256 p[3];
   for (int i = 0; i < 3; ++i) {
     const __m256 yz = _mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(steps[3 + i]), cy),
@@ -155,15 +155,33 @@ TOFNAV_AVX2 void LookupLanes(const PixelLookup::Table& lookup, const float origi
                     _mm256_add_ps(_mm256_mul_ps(p[1], p[1]), _mm256_mul_ps(p[2], p[2]))));
   const __m256 s = _mm256_div_ps(_mm256_set1_ps(1.0f), _mm256_add_ps(p[2], norm));
   const __m256 inverse_step = _mm256_set1_ps(lookup.inverse_step);
-  const __m256 a = _mm256_mul_ps(
-      _mm256_sub_ps(_mm256_mul_ps(p[0], s), _mm256_set1_ps(lookup.min_a)), inverse_step);
-  const __m256 b = _mm256_mul_ps(
-      _mm256_sub_ps(_mm256_mul_ps(p[1], s), _mm256_set1_ps(lookup.min_b)), inverse_step);
+  a = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(p[0], s), _mm256_set1_ps(lookup.min_a)),
+                    inverse_step);
+  b = _mm256_mul_ps(_mm256_sub_ps(_mm256_mul_ps(p[1], s), _mm256_set1_ps(lookup.min_b)),
+                    inverse_step);
   const __m256 zero = _mm256_setzero_ps();
-  const __m256 seen = _mm256_and_ps(
+  return _mm256_and_ps(
       _mm256_and_ps(_mm256_cmp_ps(a, zero, _CMP_GE_OQ), _mm256_cmp_ps(b, zero, _CMP_GE_OQ)),
       _mm256_and_ps(_mm256_cmp_ps(a, _mm256_set1_ps(lookup.max_a), _CMP_LT_OQ),
                     _mm256_cmp_ps(b, _mm256_set1_ps(lookup.max_b), _CMP_LT_OQ)));
+}
+
+/// The corners' multipliers of the steps (0 or 7 per axis), lane c = corner c.
+TOFNAV_AVX2 void CornerLanes(__m256& cx, __m256& cy, __m256& cz) {
+  const __m256 seven = _mm256_set1_ps(7.0f);
+  cx = _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, -1, 0, -1, 0, -1, 0, -1)));
+  cy = _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, 0, -1, -1, 0, 0, -1, -1)));
+  cz = _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, 0, 0, 0, -1, -1, -1, -1)));
+}
+
+/// PixelLookup::Table::Lookup of the points origin + (steps[0..2] cx + (steps[3..5] cy +
+/// steps[6..8] cz)) (Eigen's order for origin + steps * c), lane by lane, with the same
+/// operations in the same order; NaN in the lanes that no pixel sees.
+TOFNAV_AVX2 void LookupLanes(const PixelLookup::Table& lookup, const float origin[3],
+                             const float steps[9], __m256 cx, __m256 cy, __m256 cz, __m256& u,
+                             __m256& v) {
+  __m256 a, b;
+  const __m256 seen = PlanePosition(lookup, origin, steps, cx, cy, cz, a, b);
   const __m256i ia = _mm256_cvttps_epi32(a), ib = _mm256_cvttps_epi32(b);
   const __m256 fa = _mm256_sub_ps(a, _mm256_cvtepi32_ps(ia));
   const __m256 fb = _mm256_sub_ps(b, _mm256_cvtepi32_ps(ib));
@@ -188,13 +206,9 @@ __attribute__((target("avx2"))) bool ProjectCornersAvx2(const PixelLookup::Table
                                                         const float origin[3], const float steps[9],
                                                         float u[9], float v[9]) {
   // Lane c is corner c.
-  const __m256 seven = _mm256_set1_ps(7.0f), zero = _mm256_setzero_ps();
-  const __m256 cx =
-      _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, -1, 0, -1, 0, -1, 0, -1)));
-  const __m256 cy =
-      _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, 0, -1, -1, 0, 0, -1, -1)));
-  const __m256 cz =
-      _mm256_and_ps(seven, _mm256_castsi256_ps(_mm256_setr_epi32(0, 0, 0, 0, -1, -1, -1, -1)));
+  const __m256 zero = _mm256_setzero_ps();
+  __m256 cx, cy, cz;
+  CornerLanes(cx, cy, cz);
   __m256 corner_u, corner_v;
   LookupLanes(lookup, origin, steps, cx, cy, cz, corner_u, corner_v);
   // Unseen lanes are NaN, which fails the comparison.
@@ -211,6 +225,24 @@ __attribute__((target("avx2"))) bool ProjectCornersAvx2(const PixelLookup::Table
   u[8] = centre.u;
   v[8] = centre.v;
   return true;
+}
+
+__attribute__((target("avx2"))) void PrefetchCornerNodesAvx2(const PixelLookup::Table& lookup,
+                                                             const float origin[3],
+                                                             const float steps[9]) {
+  __m256 cx, cy, cz, a, b;
+  CornerLanes(cx, cy, cz);
+  const int seen = _mm256_movemask_ps(PlanePosition(lookup, origin, steps, cx, cy, cz, a, b));
+  if (seen != 0xFF) return;
+  const __m256i node =
+      _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(b), _mm256_set1_epi32(lookup.stride)),
+                       _mm256_cvttps_epi32(a));
+  alignas(32) std::int32_t lane[8];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lane), node);
+  for (const std::int32_t n : lane) {
+    __builtin_prefetch(lookup.nodes + n);
+    __builtin_prefetch(lookup.nodes + n + lookup.stride);
+  }
 }
 
 __attribute__((target("avx2"))) float MaxRangeInBoxAvx2(const float* range_mm, int width, int u_lo,
@@ -274,6 +306,8 @@ std::int64_t UpdateInterpolatedRowAvx2(const KernelInputs&, const KernelRow&, bo
 bool ProjectCornersAvx2(const PixelLookup::Table&, const float*, const float*, float*, float*) {
   throw std::logic_error("ProjectCornersAvx2: not an x86-64 build");
 }
+
+void PrefetchCornerNodesAvx2(const PixelLookup::Table&, const float*, const float*) {}
 
 float MaxRangeInBoxAvx2(const float*, int, int, int, int, int) {
   throw std::logic_error("MaxRangeInBoxAvx2: not an x86-64 build");

@@ -105,6 +105,7 @@ IntegrateResult TsdfVolume::Integrate(const Image<float>& range_mm,
       constexpr std::size_t kCacheLine = 64;
       for (std::size_t b = 0; b < sizeof(TsdfBlock); b += kCacheLine)
         __builtin_prefetch(next + b, 1);
+      frame_->PrefetchBlock(touched[k + 1]);
     }
     updated[k] = frame_->IntegrateBlock(touched[k], blocks_[ids[k]]);
   });
