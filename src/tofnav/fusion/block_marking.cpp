@@ -28,14 +28,36 @@ int CeilToInt(float x) {
   return static_cast<float>(i) < x ? i + 1 : i;
 }
 
-/// Sets the flags of blocks b0 .. b1 (inclusive, relative to the mask's base).
-void MarkBox(const BlockMarker& m, const int b0[3], const int b1[3]) {
+/// Distance from the coordinate c to the voxels 8 key .. 8 key + 7 of a block along one axis,
+/// all in voxels; 0 between them.
+float SlabDistance(float c, int key) {
+  const auto lo = static_cast<float>(8 * key), hi = static_cast<float>(8 * key + 7);
+  return std::max(std::max(lo - c, 0.0f), c - hi);
+}
+
+/// Square of the truncation in voxels.
+float SquaredTruncation(const BlockMarker& m) {
+  const float t = m.truncation_mm * m.inverse_voxel;
+  return t * t;
+}
+
+void SetFlag(const BlockMarker& m, int x, int y, int z) {
+  const auto i = static_cast<std::size_t>(x + m.stride_y * y + m.stride_z * z);
+  // Concurrent rows may mark the same block: a relaxed store of the same value.
+  std::atomic_ref<std::uint8_t>(m.mask[i]).store(1, std::memory_order_relaxed);
+}
+
+/// Sets the flags of the blocks b0 .. b1 (inclusive, relative to the mask's base) whose voxels'
+/// box comes within the truncation of the point cv (in voxels).
+void MarkBall(const BlockMarker& m, const int b0[3], const int b1[3], const float cv[3]) {
+  const float t2 = SquaredTruncation(m);
   for (int z = b0[2]; z <= b1[2]; ++z) {
+    const float ez = SlabDistance(cv[2], z + m.base[2]);
     for (int y = b0[1]; y <= b1[1]; ++y) {
+      const float ey = SlabDistance(cv[1], y + m.base[1]);
       for (int x = b0[0]; x <= b1[0]; ++x) {
-        const auto i = static_cast<std::size_t>(x + m.stride_y * y + m.stride_z * z);
-        // Concurrent rows may mark the same block: a relaxed store of the same value.
-        std::atomic_ref<std::uint8_t>(m.mask[i]).store(1, std::memory_order_relaxed);
+        const float ex = SlabDistance(cv[0], x + m.base[0]);
+        if ((ex * ex + ey * ey) + ez * ez <= t2) SetFlag(m, x, y, z);
       }
     }
   }
@@ -46,23 +68,20 @@ void MarkBox(const BlockMarker& m, const int b0[3], const int b1[3]) {
 void MarkBlocks(const BlockMarker& m, const float* range_mm, const std::array<float, 3>* points,
                 std::size_t begin, std::size_t end) {
   // Blocks are 8 voxels: a voxel index's block is index >> 3 (floor division).
-  int last_b0[3] = {1, 1, 1}, last_b1[3] = {0, 0, 0};  // an empty box
   for (std::size_t i = begin; i < end; ++i) {
     if (range_mm[i] <= 0.0f) continue;
     int b0[3], b1[3];
+    float cv[3];
     for (std::size_t a = 0; a < 3; ++a) {
       const float c = points[i][a];
-      // The voxels within the truncation, without a division and a libm call per axis.
+      // The box of voxels within the truncation, without a division and a libm call per axis.
       const int low = CeilToInt((c - m.truncation_mm) * m.inverse_voxel);
       const int high = FloorToInt((c + m.truncation_mm) * m.inverse_voxel);
       b0[a] = (std::max(low, m.roi_lo[a]) >> 3) - m.base[a];
       b1[a] = (std::min(high, m.roi_hi[a]) >> 3) - m.base[a];
+      cv[a] = c * m.inverse_voxel;
     }
-    // Neighbouring pixels mostly mark the same blocks: skip a repeat of the last box.
-    if (std::equal(b0, b0 + 3, last_b0) && std::equal(b1, b1 + 3, last_b1)) continue;
-    std::copy(b0, b0 + 3, last_b0);
-    std::copy(b1, b1 + 3, last_b1);
-    MarkBox(m, b0, b1);
+    MarkBall(m, b0, b1, cv);
   }
 }
 
@@ -71,16 +90,19 @@ void MarkBlocks(const BlockMarker& m, const float* range_mm, const std::array<fl
 __attribute__((target("avx2"))) void MarkBlocksAvx2(const BlockMarker& m, const float* range_mm,
                                                     const std::array<float, 3>* points,
                                                     std::size_t begin, std::size_t end) {
-  // Lane k is pixel i + k: its box as six index vectors (MarkBlocks' operations), compared with
-  // the box of lane k - 1; only the lanes with a new box reach the scalar marking. Unusable
-  // lanes get an empty box, so the lane after one always marks: the flags are MarkBlocks'.
+  // Lane k is pixel i + k: MarkBlocks' box and, when it spans at most two blocks per axis (the
+  // usual truncation of a few voxels), which of its blocks pass the distance test as bits
+  // dx | dy << 1 | dz << 2 of the block b0 + (dx, dy, dz), with MarkBlocks' operations. Lanes
+  // whose (b0, bits) repeat the previous lane's mark nothing new and are skipped; wider boxes
+  // take MarkBall. Unusable lanes get b0 = -1, which no usable lane has (b0 >= 0).
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
   const __m256i previous_lane = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);
   const __m256i xyz = _mm256_mullo_epi32(lane, _mm256_set1_epi32(3));
+  const __m256i one = _mm256_set1_epi32(1), unusable = _mm256_set1_epi32(-1);
   const __m256 truncation = _mm256_set1_ps(m.truncation_mm);
   const __m256 inverse_voxel = _mm256_set1_ps(m.inverse_voxel);
-  __m256i last[6];  // the previous lane's box: b0 x y z, b1 x y z
-  for (int a = 0; a < 3; ++a) last[a] = _mm256_set1_epi32(1), last[3 + a] = _mm256_setzero_si256();
+  const __m256 t2 = _mm256_set1_ps(SquaredTruncation(m));
+  __m256i last[4] = {unusable, unusable, unusable, _mm256_setzero_si256()};  // b0 x y z, bits
   for (std::size_t i = begin; i < end; i += 8) {
     const __m256i in_span = _mm256_cmpgt_epi32(
         _mm256_set1_epi32(static_cast<int>(std::min<std::size_t>(end - i, 8))), lane);
@@ -89,13 +111,13 @@ __attribute__((target("avx2"))) void MarkBlocksAvx2(const BlockMarker& m, const 
                                         _mm256_cmp_ps(range, _mm256_setzero_ps(), _CMP_GT_OQ));
     const int usable_bits = _mm256_movemask_ps(usable);
     if (usable_bits == 0) {
-      for (int a = 0; a < 3; ++a)
-        last[a] = _mm256_set1_epi32(1), last[3 + a] = _mm256_setzero_si256();
+      last[0] = last[1] = last[2] = unusable;
       continue;
     }
     const float* base = points[i].data();
-    __m256i box[6];
-    __m256i same = _mm256_set1_epi32(-1);
+    __m256i key[4], b1[3], wide = _mm256_setzero_si256();
+    __m256 cv[3], near[3][2];  // per axis: distance^2 to the slabs of blocks b0 and b0 + 1
+    __m256i spans[3];          // b1 - b0
     for (int a = 0; a < 3; ++a) {
       const __m256 c = _mm256_mask_i32gather_ps(_mm256_setzero_ps(), base + a, xyz, usable, 4);
       const __m256 lo = _mm256_mul_ps(_mm256_sub_ps(c, truncation), inverse_voxel);
@@ -107,31 +129,72 @@ __attribute__((target("avx2"))) void MarkBlocksAvx2(const BlockMarker& m, const 
       const __m256i high = _mm256_add_epi32(
           hi_i, _mm256_castps_si256(_mm256_cmp_ps(_mm256_cvtepi32_ps(hi_i), hi, _CMP_GT_OQ)));
       const __m256i base_key = _mm256_set1_epi32(m.base[a]);
-      box[a] = _mm256_sub_epi32(
+      key[a] = _mm256_sub_epi32(
           _mm256_srai_epi32(_mm256_max_epi32(low, _mm256_set1_epi32(m.roi_lo[a])), 3), base_key);
-      box[3 + a] = _mm256_sub_epi32(
+      b1[a] = _mm256_sub_epi32(
           _mm256_srai_epi32(_mm256_min_epi32(high, _mm256_set1_epi32(m.roi_hi[a])), 3), base_key);
+      spans[a] = _mm256_sub_epi32(b1[a], key[a]);
+      wide = _mm256_or_si256(wide, _mm256_cmpgt_epi32(spans[a], one));
+      cv[a] = _mm256_mul_ps(c, inverse_voxel);
+      for (int d = 0; d < 2; ++d) {  // SlabDistance to block b0 + d, squared
+        const __m256i first = _mm256_slli_epi32(
+            _mm256_add_epi32(_mm256_add_epi32(key[a], base_key), _mm256_set1_epi32(d)), 3);
+        const __m256 slab_lo = _mm256_cvtepi32_ps(first);
+        const __m256 slab_hi = _mm256_cvtepi32_ps(_mm256_add_epi32(first, _mm256_set1_epi32(7)));
+        const __m256 e =
+            _mm256_max_ps(_mm256_max_ps(_mm256_sub_ps(slab_lo, cv[a]), _mm256_setzero_ps()),
+                          _mm256_sub_ps(cv[a], slab_hi));
+        near[a][d] = _mm256_mul_ps(e, e);
+      }
     }
-    for (int k = 0; k < 6; ++k) {
-      // Unusable lanes: the empty box b0 = 1, b1 = 0.
-      box[k] =
-          _mm256_blendv_epi8(_mm256_set1_epi32(k < 3 ? 1 : 0), box[k], _mm256_castps_si256(usable));
+    __m256i bits = _mm256_setzero_si256();
+    for (int corner = 0; corner < 8; ++corner) {
+      const int dx = corner & 1, dy = (corner >> 1) & 1, dz = corner >> 2;
+      const __m256 d2 = _mm256_add_ps(_mm256_add_ps(near[0][dx], near[1][dy]), near[2][dz]);
+      __m256i pass = _mm256_castps_si256(_mm256_cmp_ps(d2, t2, _CMP_LE_OQ));
+      // Block b0 + d exists in the box only where b1 - b0 >= d.
+      pass = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_set1_epi32(dx), spans[0]), pass);
+      pass = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_set1_epi32(dy), spans[1]), pass);
+      pass = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_set1_epi32(dz), spans[2]), pass);
+      bits = _mm256_or_si256(bits, _mm256_and_si256(pass, _mm256_set1_epi32(1 << corner)));
+    }
+    key[3] = bits;
+    __m256i same = _mm256_set1_epi32(-1);
+    for (int k = 0; k < 4; ++k) {
+      if (k < 3) key[k] = _mm256_blendv_epi8(unusable, key[k], _mm256_castps_si256(usable));
       // The previous lane's value: lane 0 takes lane 7 of the last group.
       const __m256i previous =
-          _mm256_blend_epi32(_mm256_permutevar8x32_epi32(box[k], previous_lane),
+          _mm256_blend_epi32(_mm256_permutevar8x32_epi32(key[k], previous_lane),
                              _mm256_permutevar8x32_epi32(last[k], previous_lane), 0x01);
-      same = _mm256_and_si256(same, _mm256_cmpeq_epi32(box[k], previous));
-      last[k] = box[k];
+      same = _mm256_and_si256(same, _mm256_cmpeq_epi32(key[k], previous));
+      last[k] = key[k];
     }
+    same = _mm256_andnot_si256(wide, same);
     int fresh = usable_bits & ~_mm256_movemask_ps(_mm256_castsi256_ps(same));
     if (fresh == 0) continue;
-    alignas(32) int values[6][8];
-    for (int k = 0; k < 6; ++k) _mm256_store_si256(reinterpret_cast<__m256i*>(values[k]), box[k]);
+    alignas(32) int values[8][8];  // b0 x y z, bits, b1 x y z
+    alignas(32) float points_vox[3][8];
+    for (int k = 0; k < 4; ++k) _mm256_store_si256(reinterpret_cast<__m256i*>(values[k]), key[k]);
+    const int wide_bits = _mm256_movemask_ps(_mm256_castsi256_ps(wide));
+    if ((fresh & wide_bits) != 0) {
+      for (int a = 0; a < 3; ++a) {
+        _mm256_store_si256(reinterpret_cast<__m256i*>(values[4 + a]), b1[a]);
+        _mm256_store_ps(points_vox[a], cv[a]);
+      }
+    }
     for (; fresh != 0; fresh &= fresh - 1) {
       const int k = __builtin_ctz(static_cast<unsigned>(fresh));
       const int b0[3] = {values[0][k], values[1][k], values[2][k]};
-      const int b1[3] = {values[3][k], values[4][k], values[5][k]};
-      MarkBox(m, b0, b1);
+      if ((wide_bits >> k & 1) != 0) {
+        const int last_block[3] = {values[4][k], values[5][k], values[6][k]};
+        const float point[3] = {points_vox[0][k], points_vox[1][k], points_vox[2][k]};
+        MarkBall(m, b0, last_block, point);
+        continue;
+      }
+      for (int corner_bits = values[3][k]; corner_bits != 0; corner_bits &= corner_bits - 1) {
+        const int corner = __builtin_ctz(static_cast<unsigned>(corner_bits));
+        SetFlag(m, b0[0] + (corner & 1), b0[1] + (corner >> 1 & 1), b0[2] + (corner >> 2));
+      }
     }
   }
 }

@@ -8,22 +8,22 @@
 
 namespace tofnav {
 
-/// Flags over the frame's box of block keys (x fastest) and what a point's box needs, as plain
+/// Flags over the frame's box of block keys (x fastest) and what marking a point needs, as plain
 /// values for the per-pixel loop.
 struct BlockMarker {
   std::uint8_t* mask;  // 1: touched; rows of concurrent tasks may set the same flag
   std::int64_t stride_y, stride_z;
   int base[3];               // key of mask entry 0
   int roi_lo[3], roi_hi[3];  // voxel index bounds of the region of interest
-  float truncation_mm;       // half-width of the box around a point
+  float truncation_mm;       // radius of the ball around a point
   float inverse_voxel;       // voxels per mm
 };
 
-/// Marks, for every pixel i in [begin, end) with range_mm[i] > 0, each block holding a voxel
-/// within the box of half-width truncation_mm around points[i] (and inside the ROI).
+/// Marks, for every pixel i in [begin, end) with range_mm[i] > 0, each block (inside the ROI)
+/// whose box of voxel centres comes within truncation_mm of points[i].
 void MarkBlocks(const BlockMarker& marker, const float* range_mm,
                 const std::array<float, 3>* points, std::size_t begin, std::size_t end);
-/// MarkBlocks with eight pixels' boxes at once: the same flags.
+/// MarkBlocks with eight pixels at once: the same flags.
 void MarkBlocksAvx2(const BlockMarker& marker, const float* range_mm,
                     const std::array<float, 3>* points, std::size_t begin, std::size_t end);
 

@@ -38,9 +38,11 @@ TEST(BlockMarking, Avx2MarksTheSameBlocksAsScalar) {
         points[i][a] = voxel_mm * (trial % 4 < 2 ? p[a] : std::round(4.0f * p[a]) / 4.0f);
     }
     std::vector<std::uint8_t> mask_a(kDims[0] * kDims[1] * kDims[2], 0), mask_b = mask_a;
+    // Some trials with a truncation of more than a block (boxes of three blocks and more).
+    const float truncation_mm = (trial % 5 == 4 ? 12.0f : 4.0f) * voxel_mm;
     BlockMarker marker{
         mask_a.data(),  kDims[0],      kDims[0] * kDims[1], {kBase[0], kBase[1], kBase[2]},
-        {-20, -16, 45}, {60, 63, 100}, 4.0f * voxel_mm,     1.0f / voxel_mm};
+        {-20, -16, 45}, {60, 63, 100}, truncation_mm,       1.0f / voxel_mm};
     const std::size_t begin = static_cast<std::size_t>(trial % 3);
     MarkBlocks(marker, range.data(), points.data(), begin, n);
     marker.mask = mask_b.data();
@@ -49,6 +51,34 @@ TEST(BlockMarking, Avx2MarksTheSameBlocksAsScalar) {
     for (const std::uint8_t flag : mask_a) marked += flag;
   }
   EXPECT_GT(marked, 1000u);  // the walk marked many blocks
+}
+
+TEST(BlockMarking, MarksTheBlocksWithinOneTruncationOfThePoint) {
+  // A point at voxel (20.5, 20.5, 20.5) with a 4-voxel truncation: its box reaches voxels
+  // 17 .. 24, blocks 2 and 3 per axis, but block 3's voxels (24 ..) are 3.5 voxels away along
+  // each axis: within the truncation across one face (3.5), not across an edge (4.95).
+  constexpr int kDims = 5;
+  for (const bool avx2 : {false, true}) {
+    if (avx2 && !CpuHasAvx2()) continue;
+    std::vector<std::uint8_t> mask(kDims * kDims * kDims, 0);
+    const BlockMarker marker{mask.data(), kDims,        kDims * kDims, {0, 0, 0},
+                             {0, 0, 0},   {39, 39, 39}, 4.0f,          1.0f};
+    const float range[1] = {300.0f};
+    const std::array<float, 3> point[1] = {{20.5f, 20.5f, 20.5f}};
+    if (avx2) {
+      MarkBlocksAvx2(marker, range, point, 0, 1);
+    } else {
+      MarkBlocks(marker, range, point, 0, 1);
+    }
+    const auto flag = [&](int x, int y, int z) { return mask[x + kDims * (y + kDims * z)]; };
+    int marked = 0;
+    for (const std::uint8_t f : mask) marked += f;
+    EXPECT_EQ(marked, 4) << avx2;
+    EXPECT_EQ(flag(2, 2, 2), 1);
+    EXPECT_EQ(flag(3, 2, 2), 1);
+    EXPECT_EQ(flag(2, 3, 2), 1);
+    EXPECT_EQ(flag(2, 2, 3), 1);
+  }
 }
 
 }  // namespace
