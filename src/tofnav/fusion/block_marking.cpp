@@ -92,17 +92,24 @@ __attribute__((target("avx2"))) void MarkBlocksAvx2(const BlockMarker& m, const 
                                                     std::size_t begin, std::size_t end) {
   // Lane k is pixel i + k: MarkBlocks' box and, when it spans at most two blocks per axis (the
   // usual truncation of a few voxels), which of its blocks pass the distance test as bits
-  // dx | dy << 1 | dz << 2 of the block b0 + (dx, dy, dz), with MarkBlocks' operations. Lanes
-  // whose (b0, bits) repeat the previous lane's mark nothing new and are skipped; wider boxes
-  // take MarkBall. Unusable lanes get b0 = -1, which no usable lane has (b0 >= 0).
+  // dx | dy << 1 | dz << 2 of the block b0 + (dx, dy, dz), with MarkBlocks' operations. Wider
+  // boxes take MarkBall.
   const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-  const __m256i previous_lane = _mm256_setr_epi32(7, 0, 1, 2, 3, 4, 5, 6);
   const __m256i xyz = _mm256_mullo_epi32(lane, _mm256_set1_epi32(3));
-  const __m256i one = _mm256_set1_epi32(1), unusable = _mm256_set1_epi32(-1);
+  const __m256i one = _mm256_set1_epi32(1);
   const __m256 truncation = _mm256_set1_ps(m.truncation_mm);
   const __m256 inverse_voxel = _mm256_set1_ps(m.inverse_voxel);
   const __m256 t2 = _mm256_set1_ps(SquaredTruncation(m));
-  __m256i last[4] = {unusable, unusable, unusable, _mm256_setzero_si256()};  // b0 x y z, bits
+  // The flags set so far for the blocks b0 + (0 or 1 per axis) of the last run of lanes with
+  // one b0, as corner bits: lanes of a run mostly add nothing. Locals, not reads through `m`,
+  // which the flag stores could alias.
+  std::uint8_t* const mask = m.mask;
+  const std::int64_t stride_y = m.stride_y, stride_z = m.stride_z;
+  std::int64_t corner_offset[8];
+  for (int corner = 0; corner < 8; ++corner)
+    corner_offset[corner] = (corner & 1) + stride_y * (corner >> 1 & 1) + stride_z * (corner >> 2);
+  int run_b0[3] = {-1, -1, -1}, run_bits = 0;
+  std::uint8_t* run_flag = mask;
   for (std::size_t i = begin; i < end; i += 8) {
     const __m256i in_span = _mm256_cmpgt_epi32(
         _mm256_set1_epi32(static_cast<int>(std::min<std::size_t>(end - i, 8))), lane);
@@ -110,10 +117,7 @@ __attribute__((target("avx2"))) void MarkBlocksAvx2(const BlockMarker& m, const 
     const __m256 usable = _mm256_and_ps(_mm256_castsi256_ps(in_span),
                                         _mm256_cmp_ps(range, _mm256_setzero_ps(), _CMP_GT_OQ));
     const int usable_bits = _mm256_movemask_ps(usable);
-    if (usable_bits == 0) {
-      last[0] = last[1] = last[2] = unusable;
-      continue;
-    }
+    if (usable_bits == 0) continue;
     const float* base = points[i].data();
     __m256i key[4], b1[3], wide = _mm256_setzero_si256();
     __m256 cv[3], near[3][2];  // per axis: distance^2 to the slabs of blocks b0 and b0 + 1
@@ -158,32 +162,19 @@ __attribute__((target("avx2"))) void MarkBlocksAvx2(const BlockMarker& m, const 
       pass = _mm256_andnot_si256(_mm256_cmpgt_epi32(_mm256_set1_epi32(dz), spans[2]), pass);
       bits = _mm256_or_si256(bits, _mm256_and_si256(pass, _mm256_set1_epi32(1 << corner)));
     }
-    key[3] = bits;
-    __m256i same = _mm256_set1_epi32(-1);
-    for (int k = 0; k < 4; ++k) {
-      if (k < 3) key[k] = _mm256_blendv_epi8(unusable, key[k], _mm256_castps_si256(usable));
-      // The previous lane's value: lane 0 takes lane 7 of the last group.
-      const __m256i previous =
-          _mm256_blend_epi32(_mm256_permutevar8x32_epi32(key[k], previous_lane),
-                             _mm256_permutevar8x32_epi32(last[k], previous_lane), 0x01);
-      same = _mm256_and_si256(same, _mm256_cmpeq_epi32(key[k], previous));
-      last[k] = key[k];
-    }
-    same = _mm256_andnot_si256(wide, same);
-    int fresh = usable_bits & ~_mm256_movemask_ps(_mm256_castsi256_ps(same));
-    if (fresh == 0) continue;
     alignas(32) int values[8][8];  // b0 x y z, bits, b1 x y z
     alignas(32) float points_vox[3][8];
-    for (int k = 0; k < 4; ++k) _mm256_store_si256(reinterpret_cast<__m256i*>(values[k]), key[k]);
-    const int wide_bits = _mm256_movemask_ps(_mm256_castsi256_ps(wide));
-    if ((fresh & wide_bits) != 0) {
+    for (int a = 0; a < 3; ++a) _mm256_store_si256(reinterpret_cast<__m256i*>(values[a]), key[a]);
+    _mm256_store_si256(reinterpret_cast<__m256i*>(values[3]), bits);
+    const int wide_bits = _mm256_movemask_ps(_mm256_castsi256_ps(wide)) & usable_bits;
+    if (wide_bits != 0) {
       for (int a = 0; a < 3; ++a) {
         _mm256_store_si256(reinterpret_cast<__m256i*>(values[4 + a]), b1[a]);
         _mm256_store_ps(points_vox[a], cv[a]);
       }
     }
-    for (; fresh != 0; fresh &= fresh - 1) {
-      const int k = __builtin_ctz(static_cast<unsigned>(fresh));
+    for (int lanes = usable_bits; lanes != 0; lanes &= lanes - 1) {
+      const int k = __builtin_ctz(static_cast<unsigned>(lanes));
       const int b0[3] = {values[0][k], values[1][k], values[2][k]};
       if ((wide_bits >> k & 1) != 0) {
         const int last_block[3] = {values[4][k], values[5][k], values[6][k]};
@@ -191,10 +182,18 @@ __attribute__((target("avx2"))) void MarkBlocksAvx2(const BlockMarker& m, const 
         MarkBall(m, b0, last_block, point);
         continue;
       }
-      for (int corner_bits = values[3][k]; corner_bits != 0; corner_bits &= corner_bits - 1) {
-        const int corner = __builtin_ctz(static_cast<unsigned>(corner_bits));
-        SetFlag(m, b0[0] + (corner & 1), b0[1] + (corner >> 1 & 1), b0[2] + (corner >> 2));
+      if (b0[0] != run_b0[0] || b0[1] != run_b0[1] || b0[2] != run_b0[2]) {
+        std::copy(b0, b0 + 3, run_b0);
+        run_bits = 0;
+        run_flag = mask + (b0[0] + stride_y * b0[1] + stride_z * b0[2]);
       }
+      for (int fresh = values[3][k] & ~run_bits; fresh != 0; fresh &= fresh - 1) {
+        // Concurrent rows may mark the same block: a relaxed store of the same value.
+        std::atomic_ref<std::uint8_t>(
+            run_flag[corner_offset[__builtin_ctz(static_cast<unsigned>(fresh))]])
+            .store(1, std::memory_order_relaxed);
+      }
+      run_bits |= values[3][k];
     }
   }
 }
