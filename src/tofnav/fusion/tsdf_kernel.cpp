@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <optional>
 #include <utility>
 
@@ -173,45 +172,6 @@ float FootprintMaxRange(const float* range_mm, int width, const BlockProjection&
 }
 
 }  // namespace
-
-bool ProjectCorners(const PixelLookup::Table& lookup, const float origin[3], const float steps[9],
-                    float u[9], float v[9]) {
-  // Corner c, then the centre (c = 8): the same operations in the same order as
-  // ProjectCornersAvx2's lanes, and as Eigen's origin + steps * c and norm() (which sum
-  // a0 + (a1 + a2)).
-  for (int c = 0; c < 9; ++c) {
-    const float half = 0.5f * kLast;
-    const float cx = c == 8 ? half : static_cast<float>(kLast * (c & 1));
-    const float cy = c == 8 ? half : static_cast<float>(kLast * ((c >> 1) & 1));
-    const float cz = c == 8 ? half : static_cast<float>(kLast * (c >> 2));
-    float p[3];
-    for (int i = 0; i < 3; ++i)
-      p[i] = origin[i] + (steps[i] * cx + (steps[3 + i] * cy + steps[6 + i] * cz));
-    const float norm = std::sqrt(p[0] * p[0] + (p[1] * p[1] + p[2] * p[2]));
-    const PixelLookup::Position position = lookup.Lookup(p[0], p[1], p[2], norm);
-    if (c < 8 && !(position.u >= 0.0f)) return false;
-    u[c] = position.u;
-    v[c] = position.v;
-  }
-  return true;
-}
-
-float MaxRangeInBox(const float* range_mm, int width, int u_lo, int u_hi, int v_lo, int v_hi) {
-  // Cleaned ranges are 0 or positive and finite, whose bit patterns order like the values: an
-  // integer maximum, which the compiler vectorises (a float one it may not reorder).
-  std::int32_t max_bits = 0;
-  for (int v = v_lo; v <= v_hi; ++v) {
-    const float* row = range_mm + v * width;
-    for (int u = u_lo; u <= u_hi; ++u) {
-      std::int32_t bits = 0;
-      std::memcpy(&bits, row + u, sizeof(bits));
-      max_bits = std::max(max_bits, bits);
-    }
-  }
-  float max_range = 0.0f;
-  std::memcpy(&max_range, &max_bits, sizeof(max_range));
-  return max_range;
-}
 
 std::int64_t UpdateRow(const KernelInputs& in, const KernelRow& row, bool interpolated,
                        bool bilinear, float* tsdf, float* weight) {
