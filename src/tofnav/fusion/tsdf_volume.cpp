@@ -74,19 +74,10 @@ IntegrateResult TsdfVolume::Integrate(const Image<float>& range_mm,
   result.integrated = true;
   result.pixels_used = frame_->pixels_used();
   result.blocks_touched = static_cast<int>(touched.size());
-  // Find the blocks in parallel (reads only), then allocate the missing ones serially in scan
-  // order, so ids are deterministic.
-  constexpr std::size_t kMissing = BlockIndex::kMissing;
+  // Find or allocate the blocks serially in scan order, so ids are deterministic. The flat index
+  // makes this a few microseconds, less than waking the workers for a parallel pass.
   std::vector<std::size_t> ids(touched.size());
-  ParallelFor(
-      0, static_cast<std::int64_t>(touched.size()),
-      [&](std::int64_t i) {
-        const auto k = static_cast<std::size_t>(i);
-        ids[k] = index_.Find(PackKey(touched[k]));
-      },
-      256);
   for (std::size_t i = 0; i < touched.size(); ++i) {
-    if (ids[i] != kMissing) continue;
     ids[i] = index_.Insert(PackKey(touched[i]), blocks_.size());
     if (ids[i] == blocks_.size()) {
       keys_.push_back(touched[i]);
