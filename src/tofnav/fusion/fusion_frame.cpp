@@ -3,11 +3,11 @@
 #include "tofnav/fusion/fusion_frame.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 #include "tofnav/core/parallel_for.hpp"
 #include "tofnav/core/require.hpp"
+#include "tofnav/fusion/block_marking.hpp"
 #include "tofnav/fusion/tsdf_kernel.hpp"
 
 namespace tofnav {
@@ -24,16 +24,6 @@ int LowVoxel(float c, float truncation, float voxel) {
 }
 int HighVoxel(float c, float truncation, float voxel) {
   return static_cast<int>(std::floor((c + truncation) / voxel));
-}
-
-// Rounding of coordinates that fit in an int (the key checks above guarantee it).
-int FloorToInt(float x) {
-  const int i = static_cast<int>(x);  // towards zero
-  return static_cast<float>(i) > x ? i - 1 : i;
-}
-int CeilToInt(float x) {
-  const int i = static_cast<int>(x);
-  return static_cast<float>(i) < x ? i + 1 : i;
 }
 
 // The per-pixel loops below use plain floats rather than Eigen: they touch 262144 pixels per
@@ -218,42 +208,26 @@ std::vector<Eigen::Vector3i> FusionFrame::Prepare(const Image<float>& range_mm,
           "voxel_size_mm");
   block_mask_.assign(static_cast<std::size_t>(mask_size), 0);
 
-  // Mark every block holding a voxel within the truncation of a point (a box around the point
-  // contains the ray segment [d - truncation, d + truncation] that the kernel can update).
-  const float inverse_voxel = 1.0f / voxel;  // exact for the usual power-of-two voxel sizes
-  const int roi_lo[3] = {roi_lo_vox_.x(), roi_lo_vox_.y(), roi_lo_vox_.z()};
-  const int roi_hi[3] = {roi_hi_vox_.x(), roi_hi_vox_.y(), roi_hi_vox_.z()};
-  const int base[3] = {key_lo.x(), key_lo.y(), key_lo.z()};
-  const std::int64_t stride_y = dims.x(), stride_z = std::int64_t{dims.x()} * dims.y();
+  // Mark every block whose voxels come within one truncation of a point: the ball around the
+  // point holds the ray segment [d - truncation, d + truncation] where the kernel's signed
+  // distance is not clamped. (A cube around the point, marked before, also took up to 12 %
+  // more blocks, mostly behind the surface, where nothing is updated.)
+  const BlockMarker marker{block_mask_.data(),
+                           dims.x(),
+                           std::int64_t{dims.x()} * dims.y(),
+                           {key_lo.x(), key_lo.y(), key_lo.z()},
+                           {roi_lo_vox_.x(), roi_lo_vox_.y(), roi_lo_vox_.z()},
+                           {roi_hi_vox_.x(), roi_hi_vox_.y(), roi_hi_vox_.z()},
+                           truncation,
+                           1.0f / voxel};  // exact for the usual power-of-two voxel sizes
   ParallelFor(
       0, height_,
       [&](std::int64_t row) {
-        const auto v = static_cast<std::size_t>(row);
-        int last_b0[3] = {1, 1, 1}, last_b1[3] = {0, 0, 0};  // an empty box
-        for (std::size_t i = row_span_[v].first; i < row_span_[v].second; ++i) {
-          if (range_mm_[i] <= 0.0f) continue;
-          int b0[3], b1[3];
-          for (std::size_t a = 0; a < 3; ++a) {
-            const float c = points_[i][a];
-            // LowVoxel / HighVoxel without a division and a libm call per pixel and axis.
-            const int low = CeilToInt((c - truncation) * inverse_voxel);
-            const int high = FloorToInt((c + truncation) * inverse_voxel);
-            b0[a] = FloorDiv(std::max(low, roi_lo[a]), kTsdfBlockSide) - base[a];
-            b1[a] = FloorDiv(std::min(high, roi_hi[a]), kTsdfBlockSide) - base[a];
-          }
-          // Neighbouring pixels mostly mark the same blocks: skip a repeat of the last box.
-          if (std::equal(b0, b0 + 3, last_b0) && std::equal(b1, b1 + 3, last_b1)) continue;
-          std::copy(b0, b0 + 3, last_b0);
-          std::copy(b1, b1 + 3, last_b1);
-          for (int z = b0[2]; z <= b1[2]; ++z) {
-            for (int y = b0[1]; y <= b1[1]; ++y) {
-              for (int x = b0[0]; x <= b1[0]; ++x) {
-                const auto m = static_cast<std::size_t>(x + stride_y * y + stride_z * z);
-                // Concurrent rows may mark the same block: a relaxed store of the same value.
-                std::atomic_ref<std::uint8_t>(block_mask_[m]).store(1, std::memory_order_relaxed);
-              }
-            }
-          }
+        const auto [first, last] = row_span_[static_cast<std::size_t>(row)];
+        if (use_avx2_) {
+          MarkBlocksAvx2(marker, range_mm_.data(), points_.data(), first, last);
+        } else {
+          MarkBlocks(marker, range_mm_.data(), points_.data(), first, last);
         }
       },
       kRowsPerTask);

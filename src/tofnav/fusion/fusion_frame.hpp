@@ -34,10 +34,14 @@ class FusionFrame {
   /// Updates one block from the prepared frame (Curless & Levoy running average); returns the
   /// number of voxels updated. Safe to call concurrently for different blocks.
   std::int64_t IntegrateBlock(const Eigen::Vector3i& key, TsdfBlock& block) const;
+  /// Starts fetching the camera table entries that IntegrateBlock(key) will read first.
+  void PrefetchBlock(const Eigen::Vector3i& key) const;
 
  private:
   void CleanRows(const Image<float>& range_mm, const Rigid3d& tool_from_ahat);
   void ComputeWeights(const Image<float>& pixel_weight);
+  /// The block's voxel steps (columns) and the position of its voxel (0, 0, 0) in `ahat`.
+  std::pair<Eigen::Matrix3f, Eigen::Vector3f> BlockInAhat(const Eigen::Vector3i& key) const;
 
   TsdfOptions options_;
   PixelLookup lookup_;

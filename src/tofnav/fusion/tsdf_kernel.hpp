@@ -40,6 +40,17 @@ struct BlockRows {
   std::uint64_t active;
 };
 
+/// The pixel positions (u[c], v[c]) of a block's eight corner voxels c = x | y << 1 | z << 2,
+/// x, y, z in {0, 1}: the points origin + 7 (x steps[0..2] + y steps[3..5] + z steps[6..8]) in
+/// `ahat` (steps: the block's voxel steps along its axes), and (u[8], v[8]) of its centre
+/// origin + 3.5 (steps[0..2] + steps[3..5] + steps[6..8]), NaN when unseen. False when a corner
+/// is not seen.
+bool ProjectCorners(const PixelLookup::Table& lookup, const float origin[3], const float steps[9],
+                    float u[9], float v[9]);
+/// Largest value of a cleaned range image (0 or positive, finite) over the pixels
+/// [u_lo, u_hi] x [v_lo, v_hi].
+float MaxRangeInBox(const float* range_mm, int width, int u_lo, int u_hi, int v_lo, int v_hi);
+
 /// Curless & Levoy (1996) running average over one row of `tsdf` and `weight` (8 entries each);
 /// returns the voxels updated. `interpolated`: use the row's pixel positions instead of
 /// projecting each voxel through the lookup table.
@@ -52,6 +63,13 @@ bool CpuHasAvx2();
 /// the same order as the scalar loop (no fused multiply-add), so the results are bit-identical.
 std::int64_t UpdateInterpolatedRowAvx2(const KernelInputs& in, const KernelRow& row, bool bilinear,
                                        float* tsdf, float* weight);
+/// ProjectCorners and MaxRangeInBox in eight lanes, bit-identical (same operations, same order).
+bool ProjectCornersAvx2(const PixelLookup::Table& lookup, const float origin[3],
+                        const float steps[9], float u[8], float v[8]);
+float MaxRangeInBoxAvx2(const float* range_mm, int width, int u_lo, int u_hi, int v_lo, int v_hi);
+/// Prefetches the lookup nodes that ProjectCornersAvx2 will read for these corners.
+void PrefetchCornerNodesAvx2(const PixelLookup::Table& lookup, const float origin[3],
+                             const float steps[9]);
 /// UpdateInterpolatedRowAvx2 over the active rows of a block (`tsdf`, `weight`: 512 entries).
 std::int64_t UpdateInterpolatedBlockAvx2(const KernelInputs& in, const BlockRows& rows,
                                          bool bilinear, float* tsdf, float* weight);

@@ -143,12 +143,15 @@ __attribute__((target("avx2"))) std::int64_t UpdateInterpolatedBlockAvx2(const K
                                                                          const BlockRows& rows,
                                                                          bool bilinear, float* tsdf,
                                                                          float* weight) {
+  // A copy in locals: the stores into the block could alias `in`, which would make the compiler
+  // reload (and re-broadcast) its fields for every row.
+  const KernelInputs local = in;
   const Lanes lanes = MakeLanes(rows.sx, rows.sy, rows.sz, rows.x_lo, rows.x_hi, rows.cull_mm);
   std::int64_t updated = 0;
   for (std::uint64_t active = rows.active; active != 0; active &= active - 1) {
     const int r = __builtin_ctzll(active);
     const int offset = r * 8;  // eight voxels per row
-    updated += UpdateLanes(in, lanes, rows.px[r], rows.py[r], rows.pz[r], rows.u[r], rows.du[r],
+    updated += UpdateLanes(local, lanes, rows.px[r], rows.py[r], rows.pz[r], rows.u[r], rows.du[r],
                            rows.v[r], rows.dv[r], bilinear, tsdf + offset, weight + offset);
   }
   return updated;

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -59,6 +60,60 @@ TEST(TsdfKernel, Avx2RowMatchesScalarRowBitForBit) {
   }
   EXPECT_EQ(compared, 400);
   EXPECT_GT(updated, 300);  // enough voxels took the update path, not only the skips
+}
+
+TEST(TsdfKernel, Avx2CornerProjectionMatchesScalarBitForBit) {
+  if (!CpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU";
+  // Random blocks in front of a small fisheye, some partly outside its view: both paths must
+  // agree on which blocks are seen and on every corner's pixel position.
+  const AhatCamera camera(SmallFisheyeCalibration(32));
+  const PixelLookup lookup(camera);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<float> unit(-1.0f, 1.0f);
+  int seen = 0, unseen = 0;
+  for (int trial = 0; trial < 500; ++trial) {
+    const float origin[3] = {200.0f * unit(rng), 200.0f * unit(rng), 150.0f + 100.0f * unit(rng)};
+    float steps[9];
+    for (float& s : steps) s = unit(rng);
+    std::array<float, 9> u_a{}, v_a{}, u_b{}, v_b{};
+    const bool a = ProjectCorners(lookup.table(), origin, steps, u_a.data(), v_a.data());
+    const bool b = ProjectCornersAvx2(lookup.table(), origin, steps, u_b.data(), v_b.data());
+    ASSERT_EQ(a, b) << trial;
+    if (!a) {
+      ++unseen;
+      continue;
+    }
+    ++seen;
+    // Eight corners and the centre; an unseen centre is NaN on both paths.
+    for (std::size_t c = 0; c < 9; ++c) {
+      if (c == 8 && std::isnan(u_a[c]) && std::isnan(u_b[c])) continue;
+      ASSERT_EQ(std::memcmp(&u_a[c], &u_b[c], sizeof(float)), 0) << trial << " " << c;
+      ASSERT_EQ(std::memcmp(&v_a[c], &v_b[c], sizeof(float)), 0) << trial << " " << c;
+    }
+  }
+  EXPECT_GT(seen, 100);  // both outcomes are exercised
+  EXPECT_GT(unseen, 20);
+}
+
+TEST(TsdfKernel, Avx2FootprintMaximumMatchesScalar) {
+  if (!CpuHasAvx2()) GTEST_SKIP() << "no AVX2 on this CPU";
+  constexpr int kWidth = 37, kHeight = 21;  // rows not a multiple of the eight lanes
+  std::mt19937_64 rng(9);
+  std::uniform_real_distribution<float> unit(0.0f, 1.0f);
+  std::vector<float> range(kWidth * kHeight);
+  for (float& r : range) r = unit(rng) < 0.2f ? 0.0f : 1000.0f * unit(rng);
+  std::uniform_int_distribution<int> column(0, kWidth - 1), row(0, kHeight - 1);
+  for (int trial = 0; trial < 500; ++trial) {
+    int u_lo = column(rng), u_hi = column(rng), v_lo = row(rng), v_hi = row(rng);
+    if (u_lo > u_hi) std::swap(u_lo, u_hi);
+    if (v_lo > v_hi) std::swap(v_lo, v_hi);
+    float expected = 0.0f;  // the maximum, by definition
+    for (int v = v_lo; v <= v_hi; ++v) {
+      for (int u = u_lo; u <= u_hi; ++u) expected = std::max(expected, range[v * kWidth + u]);
+    }
+    ASSERT_EQ(MaxRangeInBox(range.data(), kWidth, u_lo, u_hi, v_lo, v_hi), expected) << trial;
+    ASSERT_EQ(MaxRangeInBoxAvx2(range.data(), kWidth, u_lo, u_hi, v_lo, v_hi), expected) << trial;
+  }
 }
 
 }  // namespace

@@ -9,11 +9,11 @@
 #include <memory>
 #include <optional>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 #include "tofnav/core/image.hpp"
 #include "tofnav/core/rigid3d.hpp"
+#include "tofnav/fusion/block_index.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 
 namespace tofnav {
@@ -120,7 +120,7 @@ class TsdfVolume {
   std::unique_ptr<FusionFrame> frame_;  // camera tables and per-frame scratch
   std::vector<Eigen::Vector3i> keys_;
   std::vector<TsdfBlock> blocks_;
-  std::unordered_map<std::uint64_t, std::size_t> index_;  // packed key -> block
+  BlockIndex index_;  // packed key -> block
   int frames_integrated_ = 0;
   int frames_skipped_ = 0;
 };
