@@ -267,6 +267,8 @@ DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
     if (rejected > 0 && rejected < patches) {
       fit = FitOnce(kept, target, fit.model, options);
       evaluations += fit.lm.evaluations;
+    } else {
+      rejected = 0;  // every marker would go: keep the first fit, rejecting none
     }
   }
   DepthErrorModel model = fit.model;

@@ -137,7 +137,8 @@ class BlobMeasurer {
   // AB-weighted centroid, w = AB - threshold + 1 (> 0 on every blob pixel): rim pixels weigh by
   // their coverage, so edges are sub-pixel; the clipped PSF tail is symmetric. The illumination
   // fall-off across a blob (cos^p of the off-axis angle, 1 / d^2) pulls it towards the image
-  // centre by ~2e-4 of the off-axis distance (tracking.md 6.2 accepts this; see the stage test).
+  // centre by ~2e-4 of the off-axis distance (tracking.md 6.2 accepts this for tracking; the
+  // stage reference, which must not be biased, uses the capped centroid instead).
   // Weights are capped at that of AB = `full_ab` (INFINITY: no cap; see
   // DetectedMarker::reference_ray_in_ahat).
   Eigen::Vector2d WeightedCentroid(std::span<const PixelRun> runs, double full_ab) const {
