@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <numbers>
 #include <optional>
+#include <utility>
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/markers/bright_blobs.hpp"
@@ -98,10 +99,11 @@ class BlobMeasurer {
     DetectedMarker marker;
     marker.area_px = blob.area_px;
     marker.ab_peak = blob.ab_peak;
-    marker.pixel = WeightedCentroid(runs, INFINITY);
+    const auto [pixel, reference_pixel] =
+        WeightedCentroids(runs, kFullCoverageOfPeak * blob.ab_peak);
+    marker.pixel = pixel;
     const std::optional<Eigen::Vector3d> ray = camera_.Ray(marker.pixel);
-    const std::optional<Eigen::Vector3d> reference_ray =
-        camera_.Ray(WeightedCentroid(runs, kFullCoverageOfPeak * blob.ab_peak));
+    const std::optional<Eigen::Vector3d> reference_ray = camera_.Ray(reference_pixel);
     if (!ray || !reference_ray) {
       ++rejected.invalid_ray;
       return std::nullopt;
@@ -139,23 +141,30 @@ class BlobMeasurer {
   // fall-off across a blob (cos^p of the off-axis angle, 1 / d^2) pulls it towards the image
   // centre by ~2e-4 of the off-axis distance (tracking.md 6.2 accepts this for tracking; the
   // stage reference, which must not be biased, uses the capped centroid instead).
-  // Weights are capped at that of AB = `full_ab` (INFINITY: no cap; see
-  // DetectedMarker::reference_ray_in_ahat).
-  Eigen::Vector2d WeightedCentroid(std::span<const PixelRun> runs, double full_ab) const {
+  // Returns it and, in the same pass, the reference centroid: weights capped at that of AB =
+  // `full_ab` (DetectedMarker::reference_ray_in_ahat).
+  std::pair<Eigen::Vector2d, Eigen::Vector2d> WeightedCentroids(std::span<const PixelRun> runs,
+                                                                double full_ab) const {
     const double cap = std::max(full_ab - threshold_ + 1.0, 1.0);
-    double sum_w = 0.0, sum_u = 0.0, sum_v = 0.0;
+    double sum_w = 0.0, sum_u = 0.0, sum_v = 0.0;     // AB-weighted
+    double sum_cw = 0.0, sum_cu = 0.0, sum_cv = 0.0;  // capped
     for (const PixelRun& r : runs) {
       const std::uint16_t* row = &frame_.ab(0, r.v);
-      double row_w = 0.0;
+      double row_w = 0.0, row_cw = 0.0;
       for (int u = r.u_begin; u < r.u_end; ++u) {
-        const double w = std::min(row[u] - threshold_ + 1.0, cap);
+        const double w = row[u] - threshold_ + 1.0;
+        const double cw = std::min(w, cap);
         row_w += w;
         sum_u += w * u;
+        row_cw += cw;
+        sum_cu += cw * u;
       }
       sum_w += row_w;
       sum_v += row_w * r.v;
+      sum_cw += row_cw;
+      sum_cv += row_cw * r.v;
     }
-    return {sum_u / sum_w, sum_v / sum_w};
+    return {{sum_u / sum_w, sum_v / sum_w}, {sum_cu / sum_cw, sum_cv / sum_cw}};
   }
 
   // Valid ranges and ray angles of the blob pixels with AB >= level.
