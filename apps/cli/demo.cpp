@@ -24,8 +24,14 @@ namespace {
 constexpr const char* kCraniumCt = "/usr/share/doc/invesalius-examples/examples/Cranium.inv3";
 constexpr const char* kVersion = "0.1.0";  // project(tofnav VERSION ...)
 
-// The frame counts of a run at `scale` (1: the default, <= 90 s on the 2-core machine).
-void ScaleFrames(DemoContext& ctx, double scale) {
+}  // namespace
+
+DemoJson Acceptance(const std::string& figure, double value, const std::string& op, double limit) {
+  const bool met = op == "<=" ? value <= limit : value >= limit;
+  return {{"figure", figure}, {"value", value}, {"op", op}, {"limit", limit}, {"met", met}};
+}
+
+void ScaleDemoFrames(DemoContext& ctx, double scale) {
   const auto scaled = [&](double n, double floor) {
     return static_cast<std::int64_t>(std::max(floor, std::round(n * scale)));
   };
@@ -34,11 +40,42 @@ void ScaleFrames(DemoContext& ctx, double scale) {
   ctx.depth_eval_frames = static_cast<int>(scaled(24.0, 6.0));
 }
 
-}  // namespace
-
-DemoJson Acceptance(const std::string& figure, double value, const std::string& op, double limit) {
-  const bool met = op == "<=" ? value <= limit : value >= limit;
-  return {{"figure", figure}, {"value", value}, {"op", op}, {"limit", limit}, {"met", met}};
+DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stage) {
+  const struct {
+    const char* name;
+    void (*run)(DemoContext&, DemoJson&);
+  } stages[] = {{"marker_error", RunDemoMarkerError},
+                {"session", RunDemoSession},
+                {"depth", RunDemoDepth},
+                {"reconstruction", RunDemoReconstruction},
+                {"registration", RunDemoRegistration},
+                {"tracking", RunDemoTracking},
+                {"guidance", RunDemoGuidance}};
+  DemoJson all = DemoJson::object();
+  for (const auto& s : stages) {
+    DemoJson stage{{"ok", true}, {"error", ""}, {"elapsed_s", 0.0}};
+    const auto stage_start = std::chrono::steady_clock::now();
+    try {
+      if (std::string(s.name) == "session" && !ctx.patient_head) {
+        ctx.patient_head = LoadPatientHead(ctx.head);
+      }
+      s.run(ctx, stage);
+    } catch (const std::exception& e) {
+      stage["ok"] = false;
+      stage["error"] = e.what();
+    }
+    if (after_stage) after_stage();
+    stage["elapsed_s"] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start).count();
+    all[s.name] = stage;
+    if (!ctx.quiet && ::isatty(STDERR_FILENO) == 1) {  // a line per stage on a terminal
+      std::cerr << "demo: " << s.name << (stage["ok"].get<bool>() ? " ok" : " FAILED") << " ("
+                << stage["elapsed_s"].get<double>() << " s)"
+                << (stage["ok"].get<bool>() ? "" : ": " + stage["error"].get<std::string>())
+                << "\n";
+    }
+  }
+  return all;
 }
 
 int RunDemo(int argc, char** argv) {
@@ -70,7 +107,7 @@ int RunDemo(int argc, char** argv) {
   ctx.out = out;
   ctx.seed = seed;
   ctx.quiet = quiet || json;
-  ScaleFrames(ctx, frames_scale);
+  ScaleDemoFrames(ctx, frames_scale);
   ctx.head = !head.empty()                         ? head
              : std::filesystem::exists(kCraniumCt) ? std::string("ct:") + kCraniumCt
                                                    : "phantom";
@@ -93,42 +130,13 @@ int RunDemo(int argc, char** argv) {
                 {"frames_scale", frames_scale},
                 {"elapsed_s", 0.0},
                 {"stages", DemoJson::object()}};
-  const struct {
-    const char* name;
-    void (*run)(DemoContext&, DemoJson&);
-  } stages[] = {{"marker_error", RunDemoMarkerError},
-                {"session", RunDemoSession},
-                {"depth", RunDemoDepth},
-                {"reconstruction", RunDemoReconstruction},
-                {"registration", RunDemoRegistration},
-                {"tracking", RunDemoTracking},
-                {"guidance", RunDemoGuidance}};
-  bool all_ok = true;
-  for (const auto& s : stages) {
-    DemoJson stage{{"ok", true}, {"error", ""}, {"elapsed_s", 0.0}};
-    const auto stage_start = std::chrono::steady_clock::now();
-    try {
-      if (std::string(s.name) == "session" && !ctx.patient_head) {
-        ctx.patient_head = LoadPatientHead(ctx.head);
-      }
-      s.run(ctx, stage);
-    } catch (const std::exception& e) {
-      stage["ok"] = false;
-      stage["error"] = e.what();
-      all_ok = false;
-    }
+  demo["stages"] = RunDemoStages(ctx, [&] {
     bar.reset();
     bar_label.clear();
-    stage["elapsed_s"] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start).count();
-    demo["stages"][s.name] = stage;
-    if (!ctx.quiet && ::isatty(STDERR_FILENO) == 1) {  // a line per stage on a terminal
-      std::cerr << "demo: " << s.name << (stage["ok"].get<bool>() ? " ok" : " FAILED") << " ("
-                << stage["elapsed_s"].get<double>() << " s)"
-                << (stage["ok"].get<bool>() ? "" : ": " + stage["error"].get<std::string>())
-                << "\n";
-    }
-  }
+  });
+  bool all_ok = true;
+  for (const auto& [name, stage] : demo["stages"].items())
+    all_ok = all_ok && stage["ok"].get<bool>();
   demo["elapsed_s"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   demo["paper"] = PaperFigures();

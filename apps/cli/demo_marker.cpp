@@ -67,6 +67,7 @@ DemoJson BiasBins(const ToolEvaluation& e) {
 
 void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   sim::Scenario scenario = sim::BuiltinScenario("marker-stage");
+  if (ctx.vary_stage) ctx.vary_stage(scenario);
   const double stage_speed_mm_per_s = FitStageInto(scenario, ctx.stage_frames);
   const std::filesystem::path dir = ctx.out / "stage";
   SimulateOptions simulate;

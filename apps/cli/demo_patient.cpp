@@ -71,6 +71,7 @@ const std::string& PatientObjectName(const sim::Scenario& s) {
 void RunDemoSession(DemoContext& ctx, DemoJson& stage) {
   sim::Scenario scenario =
       sim::BuiltinScenario("evd-usecase", ctx.patient_head ? &*ctx.patient_head : nullptr);
+  if (ctx.vary_session) ctx.vary_session(scenario);
   const std::vector<int> parts = HeadframeTools(scenario);
   Require(!parts.empty() && scenario.patient.has_value(), "evd-usecase has no headframe");
   const sim::Tool& first = scenario.scene.tools[static_cast<std::size_t>(parts.front())];
@@ -202,6 +203,7 @@ void RunDemoReconstruction(DemoContext& ctx, DemoJson& stage) {
   stage["median_mm"] = head->stats.median_mm;
   stage["iqr_mm"] = head->stats.iqr_mm;
   stage["p95_mm"] = head->stats.p95_mm;
+  stage["beyond_3mm_percent"] = 100.0 * head->stats.beyond_3mm_fraction;
   stage["all_median_mm"] = e.all.median_mm;
   stage["objects"] = DemoJson::array();
   for (const ObjectError& o : e.objects) {

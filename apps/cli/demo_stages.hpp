@@ -33,6 +33,9 @@ struct DemoContext {
   std::int64_t session_frames = 300;  // patient session (identification, reconstruction, nav)
   int depth_eval_frames = 24;         // frames of the depth evaluation (ray cast truth labels)
   std::function<void(const std::string&, std::size_t, std::size_t)> progress;
+  /// Applied to the built-in scenarios before they are simulated (the robustness suite's
+  /// variations: docs/suite.md); unset, the demo's own scenarios.
+  std::function<void(sim::Scenario&)> vary_stage, vary_session;
 
   std::optional<sim::PatientHead> patient_head;
   std::optional<MarkerRangeModel> frf;        // stage marker_error
@@ -57,6 +60,14 @@ void RunDemoReconstruction(DemoContext& ctx, DemoJson& stage);
 void RunDemoRegistration(DemoContext& ctx, DemoJson& stage);
 void RunDemoTracking(DemoContext& ctx, DemoJson& stage);
 void RunDemoGuidance(DemoContext& ctx, DemoJson& stage);
+
+/// The frame counts of a run at `scale` (1: the default, <= 90 s on the 2-core machine).
+void ScaleDemoFrames(DemoContext& ctx, double scale);
+
+/// Runs every stage in order (a failed stage is recorded and the next ones run with what they
+/// have): {"name": {"ok", "error", "elapsed_s", figures...}, ...}. The head is loaded first
+/// when ctx.patient_head is unset.
+DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stage = {});
 
 /// The paper's reference figures (demo.json "paper"), keys as the stages' where comparable.
 DemoJson PaperFigures();

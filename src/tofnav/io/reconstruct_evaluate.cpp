@@ -162,6 +162,7 @@ std::vector<TruthSurface> ReadTruthSurfaces(const std::filesystem::path& truth_d
 }
 
 ErrorStats ComputeErrorStats(const std::vector<double>& signed_distances_mm) {
+  constexpr double kFarErrorMm = 3.0;  // the outlier line of the robustness suite (docs/suite.md)
   ErrorStats s;
   s.count = signed_distances_mm.size();
   if (s.count == 0) return s;
@@ -179,6 +180,9 @@ ErrorStats ComputeErrorStats(const std::vector<double>& signed_distances_mm) {
   s.p95_mm = Quantile(abs, 0.95);
   s.mean_signed_mm = sum / static_cast<double>(s.count);
   s.rms_mm = std::sqrt(sum2 / static_cast<double>(s.count));
+  const auto beyond =
+      static_cast<double>(abs.end() - std::upper_bound(abs.begin(), abs.end(), kFarErrorMm));
+  s.beyond_3mm_fraction = beyond / static_cast<double>(s.count);
   return s;
 }
 

@@ -36,6 +36,7 @@ struct ErrorStats {
   double mean_signed_mm = 0.0;
   double rms_mm = 0.0;
   double p95_mm = 0.0;
+  double beyond_3mm_fraction = 0.0;  // share of |distance| > 3 mm
 };
 /// Statistics of distances (their absolute values for median, IQR, RMS and p95).
 ErrorStats ComputeErrorStats(const std::vector<double>& signed_distances_mm);

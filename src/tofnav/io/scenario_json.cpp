@@ -52,7 +52,8 @@ class ScenarioBuilder {
     if (const Json* j = in.Find("patient")) Patient(*j, in.At("patient"));
     ForEach(in, "objects", [&](const Json& j, const std::string& at) { Object(j, at); });
     ForEach(in, "tools", [&](const Json& j, const std::string& at) { ToolEntry(j, at); });
-    if (const Json* j = in.Find("camera")) internal::ParseCamera(*j, in.At("camera"), s_.camera);
+    if (const Json* j = in.Find("camera"))
+      internal::ParseCamera(*j, in.At("camera"), base_, s_.camera);
     if (const Json* j = in.Find("timing")) s_.timing = internal::ParseTiming(*j, in.At("timing"));
     if (const Json* j = in.Find("render")) s_.render = internal::ParseRender(*j, in.At("render"));
     in.Finish();

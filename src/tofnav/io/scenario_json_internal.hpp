@@ -117,7 +117,8 @@ sim::Motion ParseMotion(const Json& json, const std::string& where);
 std::optional<sim::Material> MaterialPreset(const std::string& name);
 sim::Material ParseMaterial(const Json& json, const std::string& where);
 sim::RenderOptions ParseRender(const Json& json, const std::string& where);
-void ParseCamera(const Json& json, const std::string& where, sim::CameraSetup& camera);
+void ParseCamera(const Json& json, const std::string& where, const std::filesystem::path& base,
+                 sim::CameraSetup& camera);
 sim::FrameTimingOptions ParseTiming(const Json& json, const std::string& where);
 sim::SyntheticCtOptions ParseCtOptions(const Json& json, const std::string& where);
 sim::EvdPlanOptions ParsePlanOptions(const Json& json, const std::string& where);
@@ -129,6 +130,7 @@ TriangleMesh ParseShape(const Json& json, const std::string& where,
 OrderedJson MatrixJson(const Rigid3d& b_from_a);
 OrderedJson MaterialJson(const sim::Material& material);
 OrderedJson RenderJson(const sim::RenderOptions& options);
-OrderedJson CalibrationJson(const SyntheticAhatOptions& options);
+/// The camera's calibration as the schema writes it: the synthetic model's keys, or the folder.
+OrderedJson CalibrationJson(const sim::CameraSetup& camera);
 
 }  // namespace tofnav::internal

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Materials, sensor effects, camera, timing, CT and plan options of the scenario schema; one
 // field table per struct serves both the parser and the truth.json encoder.
+#include <filesystem>
 #include <functional>
+#include <memory>
 #include <utility>
 #include <vector>
 
+#include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/scenario_json_internal.hpp"
 
 namespace tofnav::internal {
@@ -172,11 +175,25 @@ sim::RenderOptions ParseRender(const Json& json, const std::string& where) {
   return options;
 }
 
-void ParseCamera(const Json& json, const std::string& where, sim::CameraSetup& camera) {
+void ParseCamera(const Json& json, const std::string& where, const std::filesystem::path& base,
+                 sim::CameraSetup& camera) {
   JsonFields in(json, where);
   if (const Json* j = in.Find("motion")) camera.motion = ParseMotion(*j, in.At("motion"));
   if (const Json* j = in.Find("calibration")) {
     JsonFields c(*j, in.At("calibration"));
+    if (const Json* folder = c.Find("folder")) {
+      // A real device: its tables and extrinsics as they are; nothing synthetic may be mixed in.
+      if (!folder->is_string()) Fail(c.At("folder"), "expected a path (string)");
+      std::filesystem::path path = folder->get<std::string>();
+      if (path.is_relative()) path = base / path;
+      camera.device = std::make_shared<const AhatCalibration>(ReadHl2ssCalibration(path));
+      camera.device_folder = path.string();
+      if (j->size() != 1) {
+        Fail(in.At("calibration"),
+             "'folder' takes the device's calibration as it is; "
+             "remove the synthetic camera keys");
+      }
+    }
     ReadFields(c, camera.calibration, kCalibrationFields);
     c.Read("principal_point_px", camera.calibration.principal_point_px);
     if (const Json* pose = c.Find("rig_from_ahat")) {
@@ -249,8 +266,13 @@ OrderedJson RenderJson(const sim::RenderOptions& options) {
   return out;
 }
 
-OrderedJson CalibrationJson(const SyntheticAhatOptions& options) {
+OrderedJson CalibrationJson(const sim::CameraSetup& camera) {
   OrderedJson out;
+  if (camera.device) {
+    out["folder"] = camera.device_folder;
+    return out;
+  }
+  const SyntheticAhatOptions& options = camera.calibration;
   WriteFields(out, options, kCalibrationFields);
   out["principal_point_px"] = {options.principal_point_px.x(), options.principal_point_px.y()};
   out["rig_from_ahat"] = MatrixJson(options.rig_from_ahat);

@@ -128,7 +128,12 @@ SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path
   std::filesystem::create_directories(out_dir);
 
   sim::Simulator simulator(scenario, options.camera);
-  WriteHl2ssCalibration(out_dir / "calibration", simulator.calibration());
+  if (scenario.camera.device) {  // the device's own bytes (its f32 extrinsics unrounded)
+    WriteHl2ssMode2AsFolder(out_dir / "calibration",
+                            ReadHl2ssCalibrationAsMode2(scenario.camera.device_folder));
+  } else {
+    WriteHl2ssCalibration(out_dir / "calibration", simulator.calibration());
+  }
   TruthRunInfo info;
   info.profile = options.profile == Hl2ssDepthProfile::kZdepth ? "zdepth" : "raw";
   info.files = {{"recording", kRecordingName}, {"calibration", kCalibrationName}};

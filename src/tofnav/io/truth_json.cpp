@@ -96,9 +96,9 @@ OrderedJson Header(const sim::Scenario& s, const TruthRunInfo& info) {
   OrderedJson files = OrderedJson::object();
   for (const auto& [role, name] : info.files) files[role] = name;
   h["files"] = files;
-  h["rig_from_ahat"] = MatrixJson(s.camera.calibration.rig_from_ahat);
+  h["rig_from_ahat"] = MatrixJson(s.camera.RigFromAhat());
   h["camera"] = {{"motion", MotionKindName(s.camera.motion.kind)},
-                 {"calibration", internal::CalibrationJson(s.camera.calibration)},
+                 {"calibration", internal::CalibrationJson(s.camera)},
                  {"slam_jitter",
                   {{"translation_sigma_mm", s.camera.slam.translation_sigma_mm},
                    {"rotation_sigma_rad", s.camera.slam.rotation_sigma_rad}}}};
@@ -187,7 +187,6 @@ std::vector<int> HeadframeTools(const sim::Scenario& scenario) {
     const sim::Tool& tool = scenario.scene.tools[static_cast<std::size_t>(t)];
     if (tool.name.starts_with("reference") && !tool.markers.empty()) tools.push_back(t);
   }
-  if (tools.size() < 2) tools.clear();
   return tools;
 }
 
@@ -213,7 +212,7 @@ void SimulationTruthWriter::Append(const sim::SimulatedFrame& frame) {
                 {"time_s", static_cast<double>(frame.slot) / scenario_.timing.rate_hz},
                 {"world_from_rig", MatrixJson(f.world_from_rig.value_or(Rigid3d()))},
                 {"world_from_rig_true", MatrixJson(frame.world_from_rig_true)},
-                {"rig_from_ahat", MatrixJson(scenario_.camera.calibration.rig_from_ahat)}};
+                {"rig_from_ahat", MatrixJson(scenario_.camera.RigFromAhat())}};
   for (std::size_t t = 0; t < scene.tools.size(); ++t) {
     j["ahat_from_" + scene.tools[t].name] = MatrixJson(frame.ahat_from_tools[t]);
   }

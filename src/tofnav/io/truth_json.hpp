@@ -25,7 +25,8 @@ struct TruthRunInfo {
 /// The joined headframe tool of a scenario: the tools rigid with the patient whose names start
 /// with "reference" (evd-usecase: reference_left and reference_right), in scenario order. The
 /// simulator writes them as one tool, tools/headframe.json, in the frame of the first, and
-/// truth.json carries headframe_from_image (docs/simulator.md). Empty when fewer than two.
+/// truth.json carries headframe_from_image (docs/simulator.md). A single reference tool is a
+/// headframe of one part (the suite's single-tool case); empty when there is none.
 std::vector<int> HeadframeTools(const sim::Scenario& scenario);
 inline constexpr const char* kHeadframeToolName = "headframe";
 

@@ -98,14 +98,20 @@ void ReportOptions::Check() const {
   Require(error_max_mm >= 0.0, "ReportOptions: error_max_mm must be >= 0 (0 = automatic)");
 }
 
+namespace report_internal {
+
+std::string PageHead(std::string_view title) {
+  return "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
+         EscapeXml(title) + "</title>\n" + std::string(kStyle) + "</head>\n<body>\n";
+}
+
+}  // namespace report_internal
+
 std::string RenderHtmlReport(const std::filesystem::path& demo_dir, const ReportOptions& options) {
   options.Check();
   const Json demo = ReadDemoJson(demo_dir / "demo.json");
   const Context c{demo, demo_dir, options};
-  std::string html =
-      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-      "<title>tofnav evaluation report</title>\n" +
-      std::string(kStyle) + "</head>\n<body>\n" + Header(c);
+  std::string html = report_internal::PageHead("tofnav evaluation report") + Header(c);
   html += Guarded("Retro-reflective marker range error (f_rf)", "marker_error",
                   report_internal::MarkerErrorSection, c);
   html +=

@@ -45,6 +45,8 @@ std::vector<double> Numbers(const Json& object, std::string_view key);
 std::string NotRunReason(const Json& stage);
 /// `<p class="not-run">not run: reason</p>`.
 std::string NotRun(std::string_view reason);
+/// The page's start up to and including <body>: doctype, title and the report's inline style.
+std::string PageHead(std::string_view title);
 /// A table; cells are HTML already (escape text with EscapeXml).
 std::string Table(const std::vector<std::string>& header,
                   const std::vector<std::vector<std::string>>& rows);

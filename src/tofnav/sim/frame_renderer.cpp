@@ -43,6 +43,9 @@ class PixelRng {
   std::uint64_t state_;
 };
 
+// The Lambertian share of a pixel's return (1 where nothing retro-reflects).
+double DiffuseShare(double diffuse, double total) { return total > 0.0 ? diffuse / total : 1.0; }
+
 Eigen::Vector2d UnitPlane(const Eigen::Vector3d& ray) { return ray.head<2>() / ray.z(); }
 
 // Sums amplitude * exp(i phase) * factor over the sub-rays of one pixel. Sub-rays on one surface
@@ -77,10 +80,11 @@ class PhasorSum {
 }  // namespace
 
 struct FrameRenderer::Shading {
-  double amplitude = 0.0;       // whole-pixel noise-free AB
-  double phase_range_mm = 0.0;  // range plus additive bias
-  Complex factor = 1.0;         // subsurface response (physical mode)
-  double incidence_rad = 0.0;   // computed only where needed
+  double amplitude = 0.0;          // whole-pixel noise-free AB
+  double diffuse_amplitude = 0.0;  // its Lambertian part (retro-reflection left out)
+  double phase_range_mm = 0.0;     // range plus additive bias
+  Complex factor = 1.0;            // subsurface response (physical mode)
+  double incidence_rad = 0.0;      // computed only where needed
 };
 
 FrameRenderer::FrameRenderer(const Scene& scene, const AhatCamera& camera,
@@ -107,6 +111,10 @@ FrameRenderer::Shading FrameRenderer::Shade(const RayHit& hit, const Eigen::Vect
   const double cos_incidence = -hit.normal_in_ahat.dot(ray);
   if (need_incidence) s.incidence_rad = std::acos(std::min(1.0, std::abs(cos_incidence)));
   s.amplitude = HitAmplitude(material, options_.radiometry, hit.range_mm, cos_incidence, ray.z());
+  s.diffuse_amplitude =
+      material.retro_reflective
+          ? DiffuseHitAmplitude(material, options_.radiometry, hit.range_mm, cos_incidence, ray.z())
+          : s.amplitude;
   s.phase_range_mm = hit.range_mm + AdditiveBiasMm(material, mode, hit.range_mm, s.incidence_rad,
                                                    s.amplitude, options_.sensor);
   if (subsurface) s.factor = SubsurfaceFactor(material, s.incidence_rad, modulation_hz_);
@@ -165,6 +173,7 @@ void FrameRenderer::CastRow(int v, PixelRays& pixel_rays, FrameBuffers& buffers,
   pixels.clear();
   for (int u = window.u0; u < window.u0 + window.width; ++u) {
     buffers.phasor(u, v) = 0.0;
+    buffers.diffuse_share(u, v) = 1.0;
     buffers.ab_noise(u, v) = buffers.depth_noise(u, v) = 0.0;
     const double du = u - principal_point_px_.x(), dv = v - principal_point_px_.y();
     const bool lit =
@@ -198,6 +207,7 @@ void FrameRenderer::CastRow(int v, PixelRays& pixel_rays, FrameBuffers& buffers,
         buffers.phasor(u, v) =
             std::polar(shading.amplitude, two_pi_over_alias_ * shading.phase_range_mm) *
             shading.factor;
+        buffers.diffuse_share(u, v) = DiffuseShare(shading.diffuse_amplitude, shading.amplitude);
       }
       result.truth_range_mm(u, v) = static_cast<float>(centre.range_mm);
       result.truth_incidence_rad(u, v) = static_cast<float>(shading.incidence_rad);
@@ -212,12 +222,16 @@ void FrameRenderer::CastRow(int v, PixelRays& pixel_rays, FrameBuffers& buffers,
     }
     if (centre_only) continue;
     PhasorSum sum;
+    double amplitude_sum = 0.0, diffuse_sum = 0.0;
     for (std::size_t k = first + 1; k < first + rays_per_pixel; ++k) {
       if (!hits[k].hit()) continue;
       const Shading shading = Shade(hits[k], rays[k], false);
       sum.Add(shading.amplitude, two_pi_over_alias_ * shading.phase_range_mm, shading.factor);
+      amplitude_sum += shading.amplitude;
+      diffuse_sum += shading.diffuse_amplitude;
     }
     buffers.phasor(u, v) = weight * sum.sum();
+    buffers.diffuse_share(u, v) = DiffuseShare(diffuse_sum, amplitude_sum);
   }
 }
 

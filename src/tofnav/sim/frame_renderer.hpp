@@ -27,10 +27,11 @@ struct FrameBuffers {
   Image<std::complex<double>> phasor;  // Z of tof_physics.md section 2 (AB counts)
   Image<std::complex<double>> scratch_wide;
   Image<std::complex<double>> scratch_narrow;
-  Image<double> ab_noise;     // unit normal draws
-  Image<double> depth_noise;  // unit normal draws, then correlated
-  Image<std::uint8_t> lit;    // rendered and inside the illumination circle
-  Image<double> solid_angle;  // of each pixel [sr], for multipath
+  Image<double> ab_noise;       // unit normal draws
+  Image<double> depth_noise;    // unit normal draws, then correlated
+  Image<std::uint8_t> lit;      // rendered and inside the illumination circle
+  Image<double> solid_angle;    // of each pixel [sr], for multipath
+  Image<double> diffuse_share;  // Lambertian part of the pixel's noise-free AB (0 .. 1)
 };
 
 /// The passes of one frame: CastRow (steps 1-3 and the noise draws) and FinishRow (5-7).

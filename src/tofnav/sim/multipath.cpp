@@ -118,7 +118,8 @@ void AddMultipath(const MultipathOptions& options, const Scene& scene, const Pix
       const Complex g = (w[0] * ratio(i0, j0) + w[1] * ratio(i1, j0) + w[2] * ratio(i0, j1) +
                          w[3] * ratio(i1, j1)) /
                         w_sum;
-      phasor(u, v) += options.gain * std::abs(phasor(u, v)) * g * std::polar(1.0, k * d);
+      phasor(u, v) += options.gain * in.diffuse_share(u, v) * std::abs(phasor(u, v)) * g *
+                      std::polar(1.0, k * d);
     }
   });
 }

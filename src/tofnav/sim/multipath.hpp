@@ -17,7 +17,7 @@ namespace tofnav::sim {
 /// screen-space approximation of Fuchs 2010); the receivers' phasor ratio is interpolated to every
 /// pixel. gain 0 switches it off.
 struct MultipathOptions {
-  double gain = 0.0;            // 0 (off, unit tests) .. 1 (realism), dimensionless
+  double gain = 1.0;            // 1: realism (the default); 0: off. Dimensionless
   int source_stride_px = 16;    // one emitting patch per stride x stride pixel block
   int receiver_stride_px = 16;  // one receiver per block, interpolated in between
   void Check() const;
@@ -30,13 +30,18 @@ struct MultipathInputs {
   const Image<std::int16_t>& material;           // Scene::materials index, -1 none
   const Image<Eigen::Vector3d>& ray_in_ahat;     // unit centre ray
   const Image<double>& solid_angle_sr;           // of the pixel, 0 where unknown
+  const Image<double>& diffuse_share;            // Lambertian part of the pixel's direct AB
 };
 
 /// Adds the one-bounce paths to `phasor` (amplitude * exp(i 2 pi d / L) per pixel) over `window`.
-/// The added phasor of pixel i is gain * |phasor_i| * sum_j F_ij exp(i 2 pi (d_j + r_ij + d_i) /
-/// (2 L)), with F_ij = rho_j Omega_j cos_j cos_i d_i^2 / (pi r_ij^2 cos theta_i): the ratio of
+/// The added phasor of pixel i is gain * s_i |phasor_i| * sum_j F_ij exp(i 2 pi (d_j + r_ij + d_i)
+/// / (2 L)), with F_ij = rho_j Omega_j cos_j cos_i d_i^2 / (pi r_ij^2 cos theta_i): the ratio of
 /// indirect to direct irradiance at x_i, which keeps the pixel's own albedo, subsurface and
-/// radiometry factors.
+/// radiometry factors. s_i is the Lambertian share of the pixel's direct return: a
+/// retro-reflector sends light back towards where it came from, so of the light arriving from
+/// another surface only its diffuse base (rho) reaches the camera (docs/simulator.md, multipath).
+/// Emitters use rho_j alone for the same reason: what a retro-reflector returns goes back to the
+/// source, not to the other surfaces.
 void AddMultipath(const MultipathOptions& options, const Scene& scene, const PixelRect& window,
                   const MultipathInputs& in, double alias_mm, Image<std::complex<double>>& phasor);
 

@@ -93,7 +93,8 @@ void ApplyMultipath(const RenderOptions& options, const Scene& scene, const Rend
     }
   });
   const MultipathInputs in{result.truth_range_mm, result.truth_normal_in_ahat,
-                           result.truth_material, rays.centre, solid_angle};
+                           result.truth_material, rays.centre,
+                           solid_angle,           workspace.buffers.diffuse_share};
   AddMultipath(options.multipath, scene, window, in, options.sensor.alias_mm,
                workspace.buffers.phasor);
 }
@@ -141,6 +142,7 @@ RenderOptions IdealRenderOptions() {
   options.noise.depth_sigma_floor_mm = 0.0;
   options.scatter.wide_fraction = 0.0;
   options.scatter.narrow_fraction = 0.0;
+  options.multipath.gain = 0.0;
   return options;
 }
 
@@ -148,6 +150,7 @@ RenderOptions ModelConsistentRenderOptions() {
   RenderOptions options;
   options.bias_mode = BiasMode::kModel;
   options.sensor.wiggle_amplitude_mm = 0.0;
+  options.multipath.gain = 0.0;
   return options;
 }
 
@@ -166,7 +169,7 @@ AhatRenderer::AhatRenderer(const Scene& scene, const AhatCamera& camera)
   rays.jacobian = Image<Eigen::Matrix2d>(w, h, Eigen::Matrix2d::Zero());
   internal::FrameBuffers& b = workspace_->buffers;
   b.phasor = b.scratch_wide = b.scratch_narrow = Image<Complex>(w, h);
-  b.ab_noise = b.depth_noise = b.solid_angle = Image<double>(w, h);
+  b.ab_noise = b.depth_noise = b.solid_angle = b.diffuse_share = Image<double>(w, h);
   b.lit = Image<std::uint8_t>(w, h, 0);
 }
 

@@ -30,8 +30,8 @@ struct ScatterOptions {
   void Check() const;
 };
 
-/// Everything a render can switch. Defaults are the realistic ones of tof_physics.md section 1
-/// (physical bias, noise, wiggle, scatter) with 2 x 2 sub-rays for speed.
+/// Everything a render can switch. Defaults are the realistic ones of docs/simulator.md (physical
+/// bias, noise, wiggle, scatter, one-bounce multipath) with 2 x 2 sub-rays for speed.
 struct RenderOptions {
   int supersampling = 2;  // S: S x S sub-rays per pixel (4 for realism)
   bool jitter = true;     // random sub-ray position within each of the S x S strata
@@ -43,14 +43,15 @@ struct RenderOptions {
   SensorOptions sensor;
   NoiseOptions noise;
   ScatterOptions scatter;
-  MultipathOptions multipath;  // off by default (gain 0)
+  MultipathOptions multipath;  // on by default (gain 1)
   void Check() const;
 };
 
 /// Every effect off: one centre ray per pixel, no bias, noise, wiggle or scatter. The depth is
 /// then the exact radial range mod L rounded to 1 mm, and AB the noise-free amplitude.
 RenderOptions IdealRenderOptions();
-/// Model-consistent data (tof_physics.md 5.2): model-mode bias, no wiggle; noise and scatter on.
+/// Model-consistent data (docs/simulator.md): model-mode bias, no wiggle and no multipath (both
+/// outside Eq. (3)); noise and scatter on.
 RenderOptions ModelConsistentRenderOptions();
 
 /// Why a pixel's range code is invalid.

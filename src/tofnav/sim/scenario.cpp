@@ -35,6 +35,10 @@ CameraSetup::CameraSetup() {
   calibration.sample_offset_px = 0.0;
 }
 
+const Rigid3d& CameraSetup::RigFromAhat() const {
+  return device ? device->rig_from_ahat : calibration.rig_from_ahat;
+}
+
 int Scenario::AddMount(std::string mount_name, Motion motion) {
   mounts.push_back({std::move(mount_name), std::move(motion)});
   return static_cast<int>(mounts.size()) - 1;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -30,9 +31,16 @@ struct CameraSetup {
   /// rig_from_ahat defaults to TypicalRigFromAhat(), sample_offset_px to 0 (hl2ss >= v1.0.36, so
   /// the written folder reads back unambiguously).
   SyntheticAhatOptions calibration;
-  Motion motion;  // gives world_from_ahat (the camera, not the rig)
+  /// A real headset's calibration (scenario key camera.calibration.folder): when set, frames are
+  /// rendered with its unit rays and rig_from_ahat, `calibration` is unused, and the session's
+  /// calibration folder is written as that device's, byte for byte.
+  std::shared_ptr<const AhatCalibration> device;
+  std::string device_folder;  // where `device` was read from, for reports and the truth file
+  Motion motion;              // gives world_from_ahat (the camera, not the rig)
   SlamJitterOptions slam;
   CameraSetup();
+  /// The rendered camera's extrinsics: the device's when set, else the synthetic model's.
+  const Rigid3d& RigFromAhat() const;
 };
 
 /// The patient: a head whose skin is one scene object, meshed in `image` (CT LPS) coordinates.

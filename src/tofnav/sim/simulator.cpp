@@ -22,8 +22,12 @@ bool SameOptions(const SyntheticAhatOptions& a, const SyntheticAhatOptions& b) {
 std::shared_ptr<const SimulatorCamera> CheckedCamera(
     const Scenario& scenario, std::shared_ptr<const SimulatorCamera> camera) {
   scenario.Check();
+  if (!camera && scenario.camera.device) {
+    return std::make_shared<const SimulatorCamera>(scenario.camera.device);
+  }
   if (!camera) return std::make_shared<const SimulatorCamera>(scenario.camera.calibration);
-  Require(SameOptions(camera->options, scenario.camera.calibration),
+  Require(camera->device == scenario.camera.device &&
+              (camera->device || SameOptions(camera->options, scenario.camera.calibration)),
           "Simulator: the shared camera was built for other calibration options");
   return camera;
 }
@@ -40,6 +44,12 @@ Rigid3d InWorld(const std::vector<Rigid3d>& world_from_mounts, int mount,
 SimulatorCamera::SimulatorCamera(const SyntheticAhatOptions& calibration_options)
     : options(calibration_options),
       calibration(MakeSyntheticAhatCalibration(calibration_options)),
+      camera(calibration) {}
+
+SimulatorCamera::SimulatorCamera(std::shared_ptr<const AhatCalibration> device_calibration)
+    : device((Require(device_calibration != nullptr, "SimulatorCamera: no device calibration"),
+              std::move(device_calibration))),
+      calibration(*device),
       camera(calibration) {}
 
 Simulator::Simulator(const Scenario& scenario, std::shared_ptr<const SimulatorCamera> camera)

@@ -41,7 +41,10 @@ Rigid3d ScenarioCameraPose(const Scenario& scenario, std::int64_t slot);
 /// the same camera.calibration.
 struct SimulatorCamera {
   explicit SimulatorCamera(const SyntheticAhatOptions& calibration_options);
+  /// A real device's calibration (CameraSetup::device) instead of the synthetic model.
+  explicit SimulatorCamera(std::shared_ptr<const AhatCalibration> device_calibration);
   SyntheticAhatOptions options;
+  std::shared_ptr<const AhatCalibration> device;  // null for the synthetic model
   AhatCalibration calibration;
   AhatCamera camera;
 };

@@ -16,6 +16,14 @@ constexpr double kSpeedOfLightMmPerS = 299792458e3;
 constexpr double kMmPerM = 1000.0;
 constexpr double kSecondsPerPs = 1e-12;
 
+// AB per unit reflectance at this range and off-axis angle: K cos^p(off-axis) / d^2.
+double RadiometricScale(const RadiometryOptions& options, double range_mm, double cos_off_axis) {
+  const double range_m = range_mm / kMmPerM;
+  const double c = std::max(cos_off_axis, 0.0);
+  const double falloff = options.falloff_power == 2.0 ? c * c : std::pow(c, options.falloff_power);
+  return options.ab_scale * falloff / (range_m * range_m);
+}
+
 }  // namespace
 
 void RadiometryOptions::Check() const {
@@ -45,12 +53,16 @@ void NoiseOptions::Check() const {
           "NoiseOptions.depth_correlation_px must lie in [0, 5]");
 }
 
+double DiffuseHitAmplitude(const Material& material, const RadiometryOptions& options,
+                           double range_mm, double cos_incidence, double cos_off_axis) {
+  // Lambertian: rho cos(theta)
+  return RadiometricScale(options, range_mm, cos_off_axis) * material.albedo *
+         std::abs(cos_incidence);
+}
+
 double HitAmplitude(const Material& material, const RadiometryOptions& options, double range_mm,
                     double cos_incidence, double cos_off_axis) {
-  const double range_m = range_mm / kMmPerM;
-  const double c = std::max(cos_off_axis, 0.0);
-  const double falloff = options.falloff_power == 2.0 ? c * c : std::pow(c, options.falloff_power);
-  const double scale = options.ab_scale * falloff / (range_m * range_m);
+  const double scale = RadiometricScale(options, range_mm, cos_off_axis);
   double reflectance = material.albedo * std::abs(cos_incidence);  // Lambertian: rho cos(theta)
   if (material.retro_reflective && cos_incidence > std::cos(material.retro_entrance_cutoff_rad)) {
     // R_A(alpha, beta) = R_A0 exp(-alpha / alpha0) cos(beta); AB_rr = K pi R_A V / d^2.

@@ -53,6 +53,11 @@ struct NoiseOptions {
 /// @param cos_off_axis   z of the unit ray in `ahat`
 double HitAmplitude(const Material& material, const RadiometryOptions& options, double range_mm,
                     double cos_incidence, double cos_off_axis);
+/// The Lambertian part of HitAmplitude alone (the material's diffuse base, rho |cos theta|): what
+/// a retro-reflector re-emits towards the camera of light that arrives from elsewhere than the
+/// source (docs/simulator.md, multipath).
+double DiffuseHitAmplitude(const Material& material, const RadiometryOptions& options,
+                           double range_mm, double cos_incidence, double cos_off_axis);
 
 /// Subsurface response multiplying exp(i 2 pi d / L): conj of H = (1 - a) + a / (1 + i w tau),
 /// so its argument is >= 0 and the surface appears farther (the renderer applies it in physical

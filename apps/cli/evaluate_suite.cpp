@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav evaluate suite: the robustness suite (docs/suite.md). Each case is simulated and run
+// through the whole pipeline as a user would; one row of truth-checked figures per case.
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <iostream>
+#include <set>
+
+#include "evaluate.hpp"
+#include "suite_case.hpp"
+#include "tofnav/io/file.hpp"
+#include "tofnav/report/suite_report.hpp"
+
+namespace tofnav {
+namespace {
+
+// A built-in suite name ("default", "smoke") or a path.
+std::filesystem::path SuitePath(const std::string& name_or_path) {
+  const std::filesystem::path builtin =
+      std::filesystem::path(TOFNAV_SUITES_DIR) / (name_or_path + ".json");
+  if (name_or_path.find('/') == std::string::npos && !name_or_path.ends_with(".json") &&
+      std::filesystem::exists(builtin)) {
+    return builtin;
+  }
+  return name_or_path;
+}
+
+std::string Fixed(const SuiteJson& row, const char* key, int decimals) {
+  const SuiteJson& v = row.contains(key) ? row.at(key) : SuiteJson();
+  if (!v.is_number() || std::isnan(v.get<double>())) return "-";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", decimals, v.get<double>());
+  return text;
+}
+
+void PrintRow(const SuiteJson& row) {
+  std::printf(
+      "%-24s %5s/%-5s %6s %6s %6s %6s  %-26s %6s %6s/%-5s %6s%s\n",
+      row.at("name").get<std::string>().c_str(), Fixed(row, "tracking_mm", 2).c_str(),
+      Fixed(row, "tracking_deg", 2).c_str(), Fixed(row, "depth_after_mm", 2).c_str(),
+      Fixed(row, "reconstruction_mm", 3).c_str(), Fixed(row, "beyond_3mm_percent", 2).c_str(),
+      Fixed(row, "outliers", 0).c_str(), row.value("registration", std::string("-")).c_str(),
+      Fixed(row, "true_tre_mm", 2).c_str(), Fixed(row, "entry_mm", 2).c_str(),
+      Fixed(row, "angle_deg", 2).c_str(), Fixed(row, "wall_s", 0).c_str(),
+      row.at("ok").get<bool>() ? "" : ("  ERROR " + row.at("error").get<std::string>()).c_str());
+}
+
+// Typical (median) and worst case of a figure over the rows, and how many rows meet its line.
+SuiteJson Summary(const std::vector<SuiteJson>& rows) {
+  SuiteJson summary = SuiteJson::object();
+  std::size_t refused = 0, failed = 0, all_met = 0;
+  for (const char* key : {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm",
+                          "beyond_3mm_percent", "true_tre_mm", "entry_mm", "angle_deg", "wall_s"}) {
+    std::vector<double> values;
+    for (const SuiteJson& r : rows) {
+      if (r.contains(key) && r.at(key).is_number() && !std::isnan(r.at(key).get<double>())) {
+        values.push_back(key == std::string("depth_after_mm") ? std::abs(r.at(key).get<double>())
+                                                              : r.at(key).get<double>());
+      }
+    }
+    if (values.empty()) continue;
+    std::sort(values.begin(), values.end());
+    summary[key] = {{"median", values[values.size() / 2]}, {"worst", values.back()}};
+  }
+  for (const SuiteJson& r : rows) {
+    if (!r.at("ok").get<bool>()) ++failed;
+    if (r.value("registration", std::string()).starts_with("refused")) ++refused;
+    bool met = true;
+    for (const SuiteJson& line : r.at("acceptance")) met = met && line.at("met").get<bool>();
+    all_met += met ? 1 : 0;
+  }
+  summary["cases"] = rows.size();
+  summary["cases_meeting_every_line"] = all_met;
+  summary["registrations_refused"] = refused;
+  summary["cases_with_a_failed_stage"] = failed;
+  return summary;
+}
+
+int RunEvaluateSuite(int argc, char** argv) {
+  CLI::App app{
+      "The robustness suite: simulates every case of a suite file (scenario variations: heads, "
+      "tools, occluders, surroundings, motion, drops, jitter, devices) and runs the whole "
+      "pipeline on it as a user would, one row of figures against the truth per case "
+      "(docs/suite.md)",
+      "tofnav evaluate suite"};
+  std::string suite_name;
+  std::filesystem::path out = "tofnav-suite";
+  std::vector<std::string> only;
+  double frames_scale = 0.0;
+  bool json = false, quiet = false;
+  app.add_option("suite", suite_name, "suite file, or a built-in: default, smoke")->required();
+  app.add_option("--out", out, "output folder: one folder per case, suite.json, suite.html");
+  app.add_option("--only", only, "run only these cases (repeatable)");
+  app.add_option("--frames-scale", frames_scale, "override the suite's frame scale")
+      ->check(CLI::Range(0.05, 20.0));
+  app.add_flag("--json", json, "print suite.json to stdout (nothing else on stdout)");
+  app.add_flag("-q,--quiet", quiet, "no per-case progress lines on stderr");
+  CLI11_PARSE(app, argc, argv);
+  const std::filesystem::path path = SuitePath(suite_name);
+  const SuiteFile suite = ReadSuiteFile(path);
+  const double scale = frames_scale > 0.0 ? frames_scale : suite.frames_scale;
+  const std::set<std::string> wanted(only.begin(), only.end());
+  for (const std::string& name : wanted) {
+    if (std::none_of(suite.cases.begin(), suite.cases.end(),
+                     [&](const SuiteCase& c) { return c.name == name; })) {
+      std::cerr << "tofnav evaluate suite: " << path.string() << " has no case '" << name << "'\n";
+      return EXIT_FAILURE;
+    }
+  }
+  std::filesystem::create_directories(out);
+  const auto start = std::chrono::steady_clock::now();
+  if (!json) {
+    std::printf("%-24s %11s %6s %6s %6s %6s  %-26s %6s %12s %6s\n", "case", "track mm/deg", "depth",
+                "recon", ">3mm%", "outl", "registration", "TRE", "entry/angle", "wall");
+  }
+  std::vector<SuiteJson> rows;
+  std::size_t index = 0;
+  for (const SuiteCase& c : suite.cases) {
+    if (!wanted.empty() && !wanted.count(c.name)) continue;
+    ++index;
+    if (!quiet) std::cerr << "suite: " << c.name << " (" << index << ") ..." << std::endl;
+    rows.push_back(RunSuiteCase(c, scale, out / c.name, true));
+    if (!json) {
+      PrintRow(rows.back());
+      std::fflush(stdout);
+    }
+  }
+  const double elapsed_s =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  SuiteJson result{{"format", "tofnav-suite-result"},
+                   {"name", suite.name},
+                   {"suite_file", path.string()},
+                   {"frames_scale", scale},
+                   {"elapsed_s", elapsed_s},
+                   {"summary", Summary(rows)},
+                   {"rows", rows}};
+  WriteFileAtomically(out / "suite.json", result.dump(2) + "\n");
+  WriteSuiteHtml(out / "suite.json", out / "suite.html");
+  if (json) {
+    std::cout << result.dump(2) << "\n";
+  } else {
+    std::cout << "\nsummary: " << result["summary"].dump() << "\n"
+              << "suite.json and suite.html in " << out.string() << " (" << elapsed_s << " s)\n";
+  }
+  const bool all_ran = std::all_of(rows.begin(), rows.end(), [](const SuiteJson& r) {
+    // A refused registration is a result, not a failure to run.
+    return r.at("ok").get<bool>() ||
+           r.at("error").get<std::string>().starts_with("registration: registration refused");
+  });
+  return all_ran ? EXIT_SUCCESS : EXIT_FAILURE;
+}
+
+[[maybe_unused]] const bool kRegistered = RegisterEvaluator(
+    {"suite", "the robustness suite: simulate and run every case of a suite file (docs/suite.md)",
+     RunEvaluateSuite});
+
+}  // namespace
+}  // namespace tofnav

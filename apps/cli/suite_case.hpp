@@ -1,0 +1,50 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav evaluate suite: one case of a robustness suite (docs/suite.md): its variation, how its
+// head and headset are derived, and the row of figures its run gives.
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "tofnav/sim/scenario_variation.hpp"
+
+namespace tofnav {
+
+using SuiteJson = nlohmann::ordered_json;
+
+/// One scenario variation of the suite file.
+struct SuiteCase {
+  std::string name;
+  std::string head = "phantom";  // phantom | ct:<volume> | mesh:<skin.ply>
+  bool head_mirror = false;      // ct: the volume mirrored left-right (another head)
+  double head_scale = 1.0;       // ct: voxel spacing scaled (a smaller or larger head)
+  std::uint64_t seed = 1;
+  std::string device = "synthetic";  // synthetic | perturbed:<n> | folder:<hl2ss calibration>
+  double multipath_gain = 1.0;
+  sim::ScenarioVariation variation;
+};
+
+/// A suite file: its cases and the frame scale they run at.
+struct SuiteFile {
+  std::string name;
+  double frames_scale = 0.35;
+  std::vector<SuiteCase> cases;
+};
+
+/// Parses a suite file; IoError naming the file and the JSON path of a bad key or value.
+SuiteFile ReadSuiteFile(const std::filesystem::path& path);
+
+/// Simulates and runs the case's sessions through the whole pipeline under `dir` (the demo's
+/// stages, docs/demo.md) and returns its row: {"name", "ok", "error", figures..., "stages"}.
+/// `progress` gets a label and a fraction for each step.
+SuiteJson RunSuiteCase(const SuiteCase& c, double frames_scale, const std::filesystem::path& dir,
+                       bool quiet);
+
+/// The acceptance lines of the outlier-proof pipeline (docs/suite.md) for one row: each
+/// {figure, value, op, limit, met}.
+SuiteJson SuiteAcceptance(const SuiteJson& row);
+
+}  // namespace tofnav

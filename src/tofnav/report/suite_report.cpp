@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The robustness suite's page (docs/suite.md).
+#include "tofnav/report/suite_report.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include "tofnav/io/file.hpp"
+#include "tofnav/io/io_error.hpp"
+#include "tofnav/io/json_bytes.hpp"
+#include "tofnav/report/report_internal.hpp"
+#include "tofnav/report/svg_plot.hpp"
+
+namespace tofnav {
+namespace {
+
+using report_internal::Cell;
+using report_internal::Json;
+using report_internal::Number;
+using report_internal::Text;
+
+// The figure's cell, red when its acceptance line (if any) is missed.
+std::string Marked(const Json& row, const char* figure, int significant = 3) {
+  const std::string cell = Cell(Number(row, figure), significant);
+  for (const Json& line : report_internal::Field(row, "acceptance")) {
+    if (Text(line, "figure") != figure) continue;
+    const bool met = line.value("met", false);
+    return "<span class=\"" + std::string(met ? "ok" : "missed") + "\">" + cell + "</span>";
+  }
+  return cell;
+}
+
+std::vector<std::string> RowCells(const Json& row) {
+  const std::string registration = Text(row, "registration");
+  return {EscapeXml(Text(row, "name")),
+          Marked(row, "tracking_mm") + " / " + Marked(row, "tracking_deg"),
+          Cell(Number(row, "depth_after_mm")),
+          Marked(row, "reconstruction_mm"),
+          Marked(row, "beyond_3mm_percent"),
+          Cell(Number(row, "outliers"), 6),
+          "<span class=\"" + std::string(registration == "accepted" ? "ok" : "missed") + "\">" +
+              EscapeXml(registration) + "</span>",
+          Cell(Number(row, "true_tre_mm")),
+          Marked(row, "entry_mm") + " / " + Marked(row, "angle_deg"),
+          Cell(Number(row, "wall_s"), 3),
+          EscapeXml(Text(row, "error"))};
+}
+
+}  // namespace
+
+std::string RenderSuiteHtml(const std::filesystem::path& suite_json) {
+  const Json suite = ParseJsonBytes<Json>(ReadFileBytes(suite_json), suite_json);
+  if (!suite.is_object() || suite.value("format", "") != "tofnav-suite-result") {
+    throw IoError(suite_json, std::nullopt,
+                  "not a tofnav suite result (format \"tofnav-suite-result\")");
+  }
+  const Json& rows = report_internal::Field(suite, "rows");
+  std::vector<std::vector<std::string>> cells;
+  std::vector<std::string> names;
+  PlotSeries reconstruction{"reconstruction median [mm]", {}, {}, "#1f77b4"};
+  PlotSeries entry{"guidance entry median [mm]", {}, {}, "#d62728"};
+  for (const Json& row : rows) {
+    cells.push_back(RowCells(row));
+    names.push_back(Text(row, "name"));
+    // A case that did not reach a stage draws no bar (its table row says why).
+    const auto bar = [](double v) { return std::isnan(v) ? 0.0 : v; };
+    reconstruction.y.push_back(bar(Number(row, "reconstruction_mm")));
+    entry.y.push_back(bar(Number(row, "entry_mm")));
+  }
+  std::string html = report_internal::PageHead("tofnav robustness suite: " + Text(suite, "name"));
+  html += "<h1>Robustness suite: " + EscapeXml(Text(suite, "name")) + "</h1>\n";
+  html += "<p class=\"meta\">" + std::to_string(rows.size()) + " cases, frames scale " +
+          Cell(Number(suite, "frames_scale")) + ", " + Cell(Number(suite, "elapsed_s"), 4) +
+          " s. Every figure is measured against the simulator's truth; red: the case misses "
+          "the acceptance line of the outlier-proof pipeline (docs/suite.md).</p>\n";
+  html += report_internal::Table(
+      {"case", "tracking mm / deg (filtered RMS)", "depth after [mm]", "reconstruction [mm]",
+       "head &gt; 3 mm [%]", "outliers", "registration", "true TRE [mm]", "entry mm / angle deg",
+       "wall [s]", "error"},
+      cells);
+  const Json& summary = report_internal::Field(suite, "summary");
+  html += "<h2>Summary</h2>\n<pre>" + EscapeXml(summary.dump(2)) + "</pre>\n";
+  if (!names.empty()) {
+    const std::vector<PlotSeries> series = {reconstruction, entry};
+    PlotOptions options;
+    options.width_px = 1000;
+    options.title = "Per case: reconstruction and guidance entry medians";
+    options.y_label = "mm";
+    html += report_internal::Figure("errors", "Medians per case against the truth",
+                                    SvgBarChart(names, series, options));
+  }
+  return html + "</body>\n</html>\n";
+}
+
+void WriteSuiteHtml(const std::filesystem::path& suite_json,
+                    const std::filesystem::path& out_html) {
+  WriteFileAtomically(out_html, RenderSuiteHtml(suite_json));
+}
+
+}  // namespace tofnav

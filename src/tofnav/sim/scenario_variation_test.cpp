@@ -1,0 +1,106 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Scenario variations change what they name and nothing else.
+#include "tofnav/sim/scenario_variation.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "tofnav/core/require.hpp"
+#include "tofnav/sim/scenario_builtins.hpp"
+
+namespace tofnav::sim {
+namespace {
+
+int CountReferences(const Scenario& s) {
+  int n = 0;
+  for (const Tool& t : s.scene.tools) n += t.name.starts_with("reference") ? 1 : 0;
+  return n;
+}
+
+TEST(ScenarioVariation, SpheresSitOnPostsAboveTheSameLayout) {
+  const Scenario before = BuiltinScenario("evd-usecase");
+  Scenario after = before;
+  ApplyVariation({.tools = ReferenceTools::kSpheres}, after);
+  ASSERT_EQ(after.scene.tools.size(), before.scene.tools.size());
+  for (std::size_t t = 0; t < after.scene.tools.size(); ++t) {
+    const Tool& a = after.scene.tools[t];
+    if (!a.name.starts_with("reference")) continue;
+    for (std::size_t m = 0; m < a.markers.size(); ++m) {
+      const Marker& disc = before.scene.tools[t].markers[m];
+      const Marker& sphere = a.markers[m];
+      EXPECT_EQ(sphere.shape, MarkerShape::kSphere);
+      // Same point of the plate, 8 mm post plus the 5.75 mm radius above it (exact geometry).
+      const Eigen::Vector3d rise = sphere.centre_in_tool - disc.centre_in_tool;
+      EXPECT_NEAR(rise.cross(disc.normal_in_tool).norm(), 0.0, 1e-9);
+      EXPECT_NEAR(rise.dot(disc.normal_in_tool), 8.0 + 5.75 - 0.1, 1e-9);  // discs float 0.1 mm
+    }
+  }
+}
+
+TEST(ScenarioVariation, ASingleToolDropsTheOtherToolAndItsPlate) {
+  Scenario s = BuiltinScenario("evd-usecase");
+  ASSERT_EQ(CountReferences(s), 2);
+  const std::string head_name = s.scene.objects[static_cast<std::size_t>(s.patient->object)].name;
+  ApplyVariation({.tools = ReferenceTools::kSingleTool}, s);
+  EXPECT_EQ(CountReferences(s), 1);
+  EXPECT_EQ(s.FindObject("reference_right_plate"), -1);
+  EXPECT_GE(s.FindObject("reference_left_plate"), 0);
+  // The patient's skin is still the patient's object after the indices moved.
+  EXPECT_EQ(s.scene.objects[static_cast<std::size_t>(s.patient->object)].name, head_name);
+  EXPECT_EQ(s.tool_mounts.size(), s.scene.tools.size());
+  EXPECT_EQ(s.object_mounts.size(), s.scene.objects.size());
+}
+
+TEST(ScenarioVariation, APillowLiesBehindTheHeadWithoutTouchingIt) {
+  Scenario s = BuiltinScenario("evd-usecase");
+  ApplyVariation({.surroundings = Surroundings::kPillow}, s);
+  const int pillow = s.FindObject("pillow");
+  ASSERT_GE(pillow, 0);
+  const SceneObject& skin = s.scene.objects[static_cast<std::size_t>(s.patient->object)];
+  const SceneObject& p = s.scene.objects[static_cast<std::size_t>(pillow)];
+  double skin_back = -1e30, pillow_front = 1e30;
+  for (const auto& v : skin.mesh.vertices)
+    skin_back = std::max(skin_back, (skin.scene_from_object * v).y());
+  for (const auto& v : p.mesh.vertices)
+    pillow_front = std::min(pillow_front, (p.scene_from_object * v).y());
+  EXPECT_GT(pillow_front - skin_back, 10.0);  // the 15 mm clearance, less the mesh's facets
+  EXPECT_LT(pillow_front - skin_back, 20.0);
+}
+
+TEST(ScenarioVariation, DriftMovesThePatientSlowlyAndTimingAndJitterAreReplaced) {
+  Scenario s = BuiltinScenario("evd-usecase");
+  ApplyVariation({.head_drift_mm_per_s = 1.0,
+                  .drop_probability = 0.05,
+                  .mean_drop_slots = 3.0,
+                  .slam_translation_sigma_mm = 1.0,
+                  .slam_rotation_sigma_rad = 1e-3},
+                 s);
+  const Motion& m = s.mounts[static_cast<std::size_t>(
+                                 s.object_mounts[static_cast<std::size_t>(s.patient->object)])]
+                        .motion;
+  const double moved_mm =
+      (MotionPose(m, 450, 45.0, 0).translation - MotionPose(m, 0, 45.0, 0).translation).norm();
+  EXPECT_NEAR(moved_mm, 10.0, 1e-6);  // 1 mm/s for 10 s
+  EXPECT_EQ(s.timing.drop_probability, 0.05);
+  EXPECT_EQ(s.timing.mean_drop_slots, 3.0);
+  EXPECT_EQ(s.camera.slam.translation_sigma_mm, 1.0);
+  EXPECT_THROW(ApplyVariation({.head_drift_mm_per_s = -1.0}, s), PreconditionError);
+}
+
+TEST(ScenarioVariation, PerturbedDevicesStayWithinTheSpreadAndAreRepeatable) {
+  const SyntheticAhatOptions base = CameraSetup().calibration;
+  for (std::uint64_t seed = 1; seed <= 20; ++seed) {
+    const SyntheticAhatOptions d = PerturbedDevice(base, seed);
+    EXPECT_LE(std::abs(d.focal_px / base.focal_px - 1.0), 0.02);
+    EXPECT_LE((d.principal_point_px - base.principal_point_px).cwiseAbs().maxCoeff(), 4.0);
+    const Rigid3d delta = base.rig_from_ahat.Inverse() * d.rig_from_ahat;
+    EXPECT_LE(delta.translation.cwiseAbs().maxCoeff(), 2.0);
+    EXPECT_LE(Eigen::AngleAxisd(delta.rotation).angle(), std::sqrt(3.0) * 0.0175);
+    EXPECT_EQ(PerturbedDevice(base, seed).focal_px, d.focal_px);
+  }
+}
+
+}  // namespace
+}  // namespace tofnav::sim

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# SPDX-License-Identifier: BSD-3-Clause
+# tofnav evaluate suite on the one-case smoke suite (spheres on posts, a pillow, a perturbed
+# device, multipath): one JSON object on stdout equal to suite.json, suite.html written, the row's
+# figures present and within tolerances loose enough for the short run; bad suite files refused
+# with the file and JSON path. Usage: suite_cli_test.sh TOFNAV
+set -euo pipefail
+tofnav=$1
+scratch=$(mktemp -d)
+trap 'rm -rf "$scratch"' EXIT
+"$tofnav" evaluate suite smoke --out "$scratch/suite" --json -q >"$scratch/stdout.json"
+/usr/bin/python3 - "$scratch/stdout.json" "$scratch/suite" <<'PY'
+import json, os, sys
+out = json.load(open(sys.argv[1]))
+d = sys.argv[2]
+assert out == json.load(open(os.path.join(d, "suite.json"))), "stdout differs from suite.json"
+assert out["format"] == "tofnav-suite-result" and len(out["rows"]) == 1
+row = out["rows"][0]
+assert row["ok"] or row["error"].startswith("registration: registration refused"), row["error"]
+html = open(os.path.join(d, "suite.html")).read()
+assert "phantom-spheres-pillow-device" in html and "<script" not in html
+# The case rendered through its own device: the session's calibration is the perturbed one.
+case = os.path.join(d, "phantom-spheres-pillow-device")
+for f in ["uv2xy.bin", "extrinsics.bin"]:
+    a = open(os.path.join(case, "device_1", "rm_depth_ahat", f), "rb").read()
+    b = open(os.path.join(case, "session", "calibration", "rm_depth_ahat", f), "rb").read()
+    assert a == b, f
+# Loose bounds for 60 session frames (the suite's lines are in docs/suite.md), each a sanity
+# check that the figure was measured against the truth and is not garbage:
+TRACKING_MM = 1.0       # sphere tools, filtered RMS: 0.3 mm is the suite's line
+RECONSTRUCTION_MM = 1.5  # 60 frames of a head: 0.4 mm is the suite's line
+ENTRY_MM = 3.0          # 1.2 mm is the suite's line
+for key, limit in [("tracking_mm", TRACKING_MM), ("reconstruction_mm", RECONSTRUCTION_MM),
+                   ("entry_mm", ENTRY_MM)]:
+    assert row[key] is not None and 0.0 < row[key] <= limit, (key, row[key])
+assert any(l["figure"] == "reconstruction_mm" for l in row["acceptance"])
+print("suite smoke:", {k: row[k] for k in ["tracking_mm", "reconstruction_mm", "entry_mm",
+                                         "registration", "true_tre_mm", "wall_s"]})
+PY
+# A bad suite file: the file and the JSON path of the bad key.
+printf '{"format": "tofnav-suite", "cases": [{"name": "a", "tools": "wands"}]}' >"$scratch/bad.json"
+if "$tofnav" evaluate suite "$scratch/bad.json" --out "$scratch/bad" 2>"$scratch/err"; then
+  echo "a bad suite file was accepted" >&2
+  exit 1
+fi
+grep -q 'bad.json.*\$.cases\[0\].tools: unknown value .wands.' "$scratch/err" || {
+  cat "$scratch/err" >&2
+  exit 1
+}
+echo "suite_cli_test: ok"
