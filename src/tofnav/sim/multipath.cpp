@@ -14,6 +14,8 @@ namespace {
 
 using Complex = std::complex<double>;
 
+constexpr double kMinCosIncidence = 1e-3;  // the direct irradiance's floor (grazing pixels)
+
 struct Patch {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();   // x_j in ahat [mm]
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // facing the camera
@@ -43,10 +45,12 @@ std::vector<Patch> SamplePatches(const Scene& scene, const PixelRect& window,
   return patches;
 }
 
-// Ratio of indirect to direct irradiance at a receiver, with the phase of d_j + r (not d_i).
-Complex ReceiverRatio(const Patch& receiver, const std::vector<Patch>& patches,
-                      double two_pi_over_two_alias) {
-  const double cos_theta_i = std::max(-receiver.normal.dot(receiver.point.normalized()), 1e-3);
+// Indirect irradiance at a receiver per unit source intensity, sum_j rho_j Omega_j cos_j cos_i /
+// (pi r^2), with the phase of d_j + r (not d_i). It varies slowly over a surface; the pixel's own
+// d_i^2 / cos(theta_i) (the inverse of its direct irradiance) is applied per pixel, so a grazing
+// receiver does not lend its large ratio to the pixels it is interpolated into.
+Complex IndirectIrradiance(const Patch& receiver, const std::vector<Patch>& patches,
+                           double two_pi_over_two_alias) {
   Complex sum = 0.0;
   for (const Patch& p : patches) {
     const Eigen::Vector3d to_receiver = receiver.point - p.point;
@@ -59,7 +63,7 @@ Complex ReceiverRatio(const Patch& receiver, const std::vector<Patch>& patches,
     const double form = p.weight * cos_j * cos_i / std::max(r2, p.min_r2);
     sum += std::polar(form, two_pi_over_two_alias * (p.range_mm + r));
   }
-  return sum * (receiver.range_mm * receiver.range_mm / (std::numbers::pi * cos_theta_i));
+  return sum / std::numbers::pi;
 }
 
 }  // namespace
@@ -80,8 +84,8 @@ void AddMultipath(const MultipathOptions& options, const Scene& scene, const Pix
   const int cols = (window.width + stride - 1) / stride,
             rows = (window.height + stride - 1) / stride;
   const double k = 2.0 * std::numbers::pi / (2.0 * alias_mm);
-  // Receivers at block centres; weight 0 where the centre ray hits nothing.
-  Image<Complex> ratio(cols, rows, Complex(0.0));
+  // Indirect irradiance at block centres; weight 0 where the centre ray hits nothing.
+  Image<Complex> irradiance(cols, rows, Complex(0.0));
   Image<double> valid(cols, rows, 0.0);
   ParallelFor(0, rows, [&](std::int64_t row) {
     const int j = static_cast<int>(row);
@@ -93,11 +97,12 @@ void AddMultipath(const MultipathOptions& options, const Scene& scene, const Pix
       const Eigen::Vector3d ray = in.ray_in_ahat(u, v);
       Eigen::Vector3d n = in.normal_in_ahat(u, v).cast<double>();
       if (n.dot(ray) > 0.0) n = -n;
-      ratio(i, j) = ReceiverRatio({d * ray, n, d, 0.0, 0.0}, patches, k);
+      irradiance(i, j) = IndirectIrradiance({d * ray, n, d, 0.0, 0.0}, patches, k);
       valid(i, j) = 1.0;
     }
   });
-  // Bilinear interpolation over the valid receivers, then the pixel's own d_i phase.
+  // Bilinear interpolation over the valid receivers, then the pixel's own direct irradiance
+  // (d_i^2 / cos theta_i) and d_i phase.
   ParallelFor(window.v0, window.v0 + window.height, [&](std::int64_t row) {
     const int v = static_cast<int>(row);
     const double y = (v - window.v0 + 0.5) / stride - 0.5;
@@ -115,9 +120,12 @@ void AddMultipath(const MultipathOptions& options, const Scene& scene, const Pix
                            (1 - fx) * fy * valid(i0, j1), fx * fy * valid(i1, j1)};
       const double w_sum = w[0] + w[1] + w[2] + w[3];
       if (w_sum <= 0.0) continue;
-      const Complex g = (w[0] * ratio(i0, j0) + w[1] * ratio(i1, j0) + w[2] * ratio(i0, j1) +
-                         w[3] * ratio(i1, j1)) /
-                        w_sum;
+      const Eigen::Vector3d ray = in.ray_in_ahat(u, v);
+      const double cos_theta_i =
+          std::max(std::abs(in.normal_in_ahat(u, v).cast<double>().dot(ray)), kMinCosIncidence);
+      const Complex g = (w[0] * irradiance(i0, j0) + w[1] * irradiance(i1, j0) +
+                         w[2] * irradiance(i0, j1) + w[3] * irradiance(i1, j1)) /
+                        w_sum * (d * d / cos_theta_i);
       phasor(u, v) += options.gain * in.diffuse_share(u, v) * std::abs(phasor(u, v)) * g *
                       std::polar(1.0, k * d);
     }
