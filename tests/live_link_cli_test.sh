@@ -56,13 +56,21 @@ PY
 
 back='tofnav navigate: hl2ss://127\.0\.0\.1:[0-9]+: the stream is back after [0-9.]+ s without frames; navigating again'
 refused='reconnecting failed \(the headset refuses connections: is the hl2ss app running\?\); trying again every 2\.0 s at most'
+# The five faults run side by side, each on its own port.
+declare -A ports
+navs=()
 for kind in drop reset truncate stall:1s restart:1s; do
   name=${kind%%:*}
-  port=$(free_port)
-  serve "$port" "$case_dir/calibration" "$kind:after=20"
-  status=$(navigate "$port" "$name" --duration-s 3)
+  ports[$name]=$(free_port)
+  serve "${ports[$name]}" "$case_dir/calibration" "$kind:after=20"
+  (navigate "${ports[$name]}" "$name" --duration-s 3 >"$scratch/$name.status") &
+  navs+=($!)
+done
+wait "${navs[@]}"
+for name in drop reset truncate stall restart; do
+  status=$(cat "$scratch/$name.status")
   [ "$status" -eq 0 ] || fail "$name: navigate exited with $status"
-  peer="tofnav navigate: hl2ss://127\.0\.0\.1:$port: "
+  peer="tofnav navigate: hl2ss://127\.0\.0\.1:${ports[$name]}: "
   case $name in
     drop) expect_lines drop "${peer}the headset closed the stream after 20 frames; reconnecting" "$back" \
       'tofnav navigate: stopped after --duration-s' ;;
@@ -103,7 +111,7 @@ expect_lines giveup "${peer}the headset closed the stream after 20 frames; recon
 # Another device answers on the same address (another calibration): refused, exit status 3.
 cp -r "$case_dir/calibration" "$scratch/other"
 $python -c 'import sys; p = sys.argv[1]; b = bytearray(open(p, "rb").read()); b[100] ^= 0xFF; open(p, "wb").write(b)' \
-  "$scratch/other/uv2xy.bin"
+  "$(find "$scratch/other" -name uv2xy.bin)"
 port=$(free_port)
 serve "$port" "$case_dir/calibration" "restart:30s:after=20"
 (

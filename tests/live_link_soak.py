@@ -156,7 +156,9 @@ def main():
             if text.startswith("TRACKING") and no_stream_periods > tracked_again:
                 tracked_again += 1
         elif name == "RasToWorld":
-            if last_down_ts is not None and ts <= last_down_ts:
+            # NO_STREAM's time is the last frame's plus the time down (an estimate of the
+            # device clock); a frame of the stream that is back may be due a frame period before.
+            if last_down_ts is not None and ts <= last_down_ts - MAX_AGE_S:
                 failures.append(f"RasToWorld of a frame from before a NO_STREAM report at "
                                 f"{arrival - started:.1f} s")
             ages.append((arrival - unix0_s) - (ts - frame0_s))
