@@ -30,7 +30,7 @@ class StampingClient {
     thread_ = std::thread([this] { Run(); });
   }
   ~StampingClient() {
-    socket_.Close();
+    ::shutdown(socket_.get(), SHUT_RDWR);  // wakes the blocked recv (a close alone does not)
     thread_.join();
   }
   /// Waits for the next RasToWorld arrival after `count` earlier ones.

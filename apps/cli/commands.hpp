@@ -16,6 +16,7 @@ int RunSimulate(int argc, char** argv);
 int RunSkin(int argc, char** argv);
 int RunRegister(int argc, char** argv);
 int RunReport(int argc, char** argv);
+int RunServe(int argc, char** argv);
 int RunTrack(int argc, char** argv);
 int RunToolDefine(int argc, char** argv);
 int RunFitMarkerError(int argc, char** argv);

@@ -11,6 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "navigate_live.hpp"
+#include "stop_signal.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/marker_range_json.hpp"
@@ -20,6 +22,7 @@
 #include "tofnav/io/tool_json.hpp"
 #include "tofnav/io/transform_io.hpp"
 #include "tofnav/stream/hl2ss_client.hpp"
+#include "tofnav/stream/live_link.hpp"
 #include "tofnav/stream/navigation_messages.hpp"
 #include "tofnav/stream/navigation_session.hpp"
 
@@ -52,6 +55,7 @@ int RunNavigate(int argc, char** argv) {
   bool realtime = false, loop = false, quiet = false, json = false, no_igtl = false;
   double duration_s = 0.0;
   std::optional<double> sample_offset;
+  LiveLinkOptions link;
   app.add_option("input", input,
                  "hl2ss recording (.bin), StreamRecorder folder, or hl2ss://HOST[:PORT]")
       ->required();
@@ -75,6 +79,10 @@ int RunNavigate(int argc, char** argv) {
   app.add_flag("--realtime", realtime, "replay a recording at its recorded pace");
   app.add_flag("--loop", loop, "replay a recording again and again (soak tests)");
   app.add_option("--duration-s", duration_s, "stop after this wall time [s] (0: at the end)");
+  app.add_option("--stall-timeout-s", link.stall_timeout_s,
+                 "live: no frame for this long is a stalled stream, reconnected [s]");
+  app.add_option("--give-up-after-s", link.give_up_after_s,
+                 "live: exit (status 3) after this long without frames [s] (0: never)");
   app.add_option("--out", out, "per-frame CSV (status, poses, plan, guidance)");
   app.add_flag("-q,--quiet", quiet, "no live status line");
   app.add_flag("--json", json, "print the summary as JSON");
@@ -89,15 +97,14 @@ int RunNavigate(int argc, char** argv) {
 
   std::unique_ptr<FrameSource> source;
   std::optional<AhatCalibration> camera_calibration;
-  if (const auto endpoint = ParseHl2ssUri(input)) {
-    camera_calibration = calibration.empty()
-                             ? DownloadHl2ssCalibration(*endpoint, 10.0, sample_offset)
-                             : ReadHl2ssCalibration(calibration, sample_offset);
-    Hl2ssAhatConfig config;
-    config.profile_z = profile == "zdepth" ? Hl2ssDepthProfile::kZdepth : Hl2ssDepthProfile::kSame;
-    config.bitrate_bps = Hl2ssDefaultAhatBitrate(config.profile_z, Hl2ssVideoProfile::kRaw);
-    config.encoder_options = {{10, 1}};
-    source = std::make_unique<Hl2ssAhatClient>(*endpoint, config);
+  const std::optional<Hl2ssEndpoint> endpoint = ParseHl2ssUri(input);
+  std::optional<std::vector<std::uint8_t>> device_calibration;  // checked on every reconnect
+  if (endpoint) {
+    link.Check();
+    if (calibration.empty()) device_calibration = DownloadHl2ssCalibrationBytes(*endpoint);
+    camera_calibration = device_calibration ? DecodeHl2ssMode2(*device_calibration,
+                                                               Hl2ssUri(*endpoint), sample_offset)
+                                            : ReadHl2ssCalibration(calibration, sample_offset);
   } else {
     auto recording = OpenAhatRecording(input);
     camera_calibration = recording->calibration();
@@ -134,9 +141,13 @@ int RunNavigate(int argc, char** argv) {
   auto last_draw = std::chrono::steady_clock::now() - std::chrono::seconds(1);
   const auto started = std::chrono::steady_clock::now();
   std::size_t frames_seen = 0;
+  NavigationState last;  // the last frame's state: NO_STREAM states continue it
   const auto on_state = [&](const NavigationState& s) {
-    if (csv) csv->Write(NavigationCsvRow(s, c.plan));
-    ++frames_seen;
+    if (csv && s.status != NavigationStatus::kNoStream) csv->Write(NavigationCsvRow(s, c.plan));
+    if (s.status != NavigationStatus::kNoStream) {
+      ++frames_seen;
+      last = s;
+    }
     const auto now = std::chrono::steady_clock::now();
     if (status_line && now - last_draw > std::chrono::milliseconds(100)) {
       last_draw = now;
@@ -155,16 +166,41 @@ int RunNavigate(int argc, char** argv) {
       std::fprintf(stderr, "\r\033[K%s", line.substr(0, 200).c_str());
     }
   };
-  std::atomic<bool> stop{false};
+  StopOnSignal signals;  // Ctrl-C: stop, save the CSV and say so
+  std::atomic<bool>& stop = signals.stop();
+  bool timed_out = false;
   const auto on_frame = [&](const NavigationState& s) {
     on_state(s);
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - started;
-    if (duration_s > 0.0 && elapsed.count() > duration_s) stop = true;
+    if (duration_s > 0.0 && elapsed.count() > duration_s) stop = timed_out = true;
   };
+  LiveHl2ssSource* live = nullptr;
+  if (endpoint) {
+    // Link down: say so, one CSV row per change, NavigationStatus NO_STREAM and no transform.
+    auto live_source = MakeLiveSource(*endpoint, profile, link, std::move(device_calibration),
+                                      &stop, [&](const LinkReport& r) {
+                                        ReportLink(r, status_line);
+                                        if (r.up) return;
+                                        const NavigationState s = NoStreamState(last, r.down_s);
+                                        if (csv && r.changed)
+                                          csv->Write(NavigationCsvRow(s, c.plan));
+                                        if (server) PublishNavigationState(*server, s, navigator);
+                                        on_frame(s);
+                                      });
+    live = live_source.get();
+    source = std::move(live_source);
+  }
   const NavigationSessionStats stats =
       RunNavigationSession(*source, navigator, server.get(), on_frame, &stop);
   if (status_line) std::fprintf(stderr, "\n");
   if (csv) csv->Commit();
+  const std::string reason = signals.signalled() ? "stopped by the user (Ctrl-C)"
+                             : timed_out         ? "stopped after --duration-s"
+                             : live != nullptr   ? live->failure()
+                                                 : "";
+  if (!reason.empty() && (live != nullptr || signals.signalled())) {
+    std::fprintf(stderr, "tofnav navigate: %s\n", reason.c_str());
+  }
   nlohmann::ordered_json summary{{"source", source->description()},
                                  {"frames", stats.frames},
                                  {"tracking", stats.tracking},
@@ -181,6 +217,7 @@ int RunNavigate(int argc, char** argv) {
                        {"frames_received", s.frames_received},
                        {"crc_errors", s.crc_errors}};
   }
+  if (live != nullptr) summary["link"] = LinkSummary(live->stats());
   if (json) {
     std::cout << summary.dump(2) << "\n";
   } else if (!quiet) {
@@ -188,7 +225,9 @@ int RunNavigate(int argc, char** argv) {
               << stats.holding << " holding, " << stats.reference_lost << " reference lost, "
               << stats.no_world_pose << " without head pose\n";
   }
-  return EXIT_SUCCESS;
+  return live != nullptr && !live->failure().empty() && !signals.signalled() && !timed_out
+             ? kExitGaveUp
+             : EXIT_SUCCESS;
 }
 
 }  // namespace tofnav

@@ -45,6 +45,8 @@ const char* ToString(NavigationStatus status) {
       return "REFERENCE_LOST";
     case NavigationStatus::kNoWorldPose:
       return "NO_WORLD_POSE";
+    case NavigationStatus::kNoStream:
+      return "NO_STREAM";
   }
   return "?";
 }

@@ -45,6 +45,7 @@ enum class NavigationStatus {
   kHolding,        // reference unseen for <= stale_after_s: the last world_from_image is kept
   kReferenceLost,  // reference unseen for longer (or never seen): no current world_from_image
   kNoWorldPose,    // reference measured, but the frame has no world_from_rig (locator failed)
+  kNoStream,       // the headset link is down: no frames (set by stream/, never by Process)
 };
 const char* ToString(NavigationStatus status);
 
@@ -60,6 +61,7 @@ struct NavigationState {
   NavigationStatus status = NavigationStatus::kReferenceLost;
   ToolStatus reference_status = ToolStatus::kOutOfView;  // this frame's measurement
   double reference_age_s = 0.0;  // since the reference was last measured (infinity: never)
+  double stream_down_s = 0.0;    // kNoStream: since the last frame arrived
   int detected_markers = 0;
   std::optional<Rigid3d> ahat_from_tool;    // reference, measured in this frame (filtered)
   std::optional<Rigid3d> world_from_rig;    // this frame's head pose

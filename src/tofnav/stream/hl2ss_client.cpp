@@ -14,10 +14,6 @@
 namespace tofnav {
 namespace {
 
-std::string Source(const Hl2ssEndpoint& e) {
-  return "hl2ss://" + e.host + ":" + std::to_string(e.port);
-}
-
 /// The bytes a recording file holds before its first packet, for this configuration.
 std::vector<std::uint8_t> FilePrefix(const Hl2ssAhatConfig& config) {
   ByteWriter out;
@@ -92,18 +88,29 @@ std::optional<Hl2ssEndpoint> ParseHl2ssUri(const std::string& uri) {
   return e;
 }
 
-AhatCalibration DownloadHl2ssCalibration(const Hl2ssEndpoint& endpoint, double timeout_s,
-                                         std::optional<double> sample_offset_override) {
-  const std::string source = Source(endpoint) + " (mode 2)";
-  const SocketFd socket = ConnectTcp(endpoint.host, endpoint.port);
+std::string Hl2ssUri(const Hl2ssEndpoint& endpoint) {
+  return "hl2ss://" + endpoint.host + ":" + std::to_string(endpoint.port);
+}
+
+std::vector<std::uint8_t> DownloadHl2ssCalibrationBytes(const Hl2ssEndpoint& endpoint,
+                                                        double timeout_s) {
+  const std::string source = Hl2ssUri(endpoint) + " (mode 2)";
+  const SocketFd socket = ConnectTcp(endpoint.host, endpoint.port, timeout_s);
   SetTimeouts(socket, timeout_s);
   const std::array<std::uint8_t, 1> mode = {2};
   WriteAll(socket, mode, source);
   std::vector<std::uint8_t> blob(kHl2ssMode2Bytes);
-  if (!ReadExact(socket, blob, source, "calibration blob")) {
-    throw IoError(source, 0, "the server closed without sending the calibration");
+  if (!ReadExact(socket, blob, source, "calibration")) {
+    throw NetworkError(source, NetworkFailure::kClosed,
+                       "receiving the calibration: the server closed without sending it");
   }
-  return DecodeHl2ssMode2(blob, source, sample_offset_override);
+  return blob;
+}
+
+AhatCalibration DownloadHl2ssCalibration(const Hl2ssEndpoint& endpoint, double timeout_s,
+                                         std::optional<double> sample_offset_override) {
+  return DecodeHl2ssMode2(DownloadHl2ssCalibrationBytes(endpoint, timeout_s),
+                          Hl2ssUri(endpoint) + " (mode 2)", sample_offset_override);
 }
 
 std::optional<AhatFrame> DecodeHl2ssPacket(const Hl2ssAhatConfig& config,
@@ -121,13 +128,13 @@ Hl2ssAhatClient::Hl2ssAhatClient(const Hl2ssEndpoint& endpoint, const Hl2ssAhatC
                                  double timeout_s)
     : endpoint_(endpoint), config_(config) {
   Require(config.mode <= 1, "Hl2ssAhatClient: mode must be 0 or 1 (mode 2: calibration)");
-  socket_ = ConnectTcp(endpoint.host, endpoint.port);
+  socket_ = ConnectTcp(endpoint.host, endpoint.port, timeout_s);
   SetTimeouts(socket_, timeout_s);
-  WriteAll(socket_, EncodeHl2ssAhatConfig(config), Source(endpoint));
+  WriteAll(socket_, EncodeHl2ssAhatConfig(config), Hl2ssUri(endpoint));
 }
 
 std::optional<AhatFrame> Hl2ssAhatClient::Next() {
-  const std::string source = Source(endpoint_);
+  const std::string source = Hl2ssUri(endpoint_);
   while (true) {
     std::vector<std::uint8_t> packet(kHl2ssPacketHeaderBytes);
     if (!ReadExact(socket_, packet, source, "packet header")) return std::nullopt;
@@ -142,7 +149,8 @@ std::optional<AhatFrame> Hl2ssAhatClient::Next() {
     packet.resize(kHl2ssPacketHeaderBytes + rest);
     if (!ReadExact(socket_, std::span(packet).subspan(kHl2ssPacketHeaderBytes), source,
                    "packet payload")) {
-      throw IoError(source, std::nullopt, "connection closed inside a packet");
+      throw NetworkError(source, NetworkFailure::kTruncated,
+                         "receiving the packet payload: the peer closed the connection inside it");
     }
     ++packets_;
     std::optional<AhatFrame> frame = DecodeHl2ssPacket(config_, packet, source);
@@ -152,7 +160,7 @@ std::optional<AhatFrame> Hl2ssAhatClient::Next() {
 }
 
 std::string Hl2ssAhatClient::description() const {
-  return Source(endpoint_) + " " + Hl2ssProfileName(config_);
+  return Hl2ssUri(endpoint_) + " " + Hl2ssProfileName(config_);
 }
 
 }  // namespace tofnav

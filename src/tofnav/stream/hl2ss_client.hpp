@@ -31,8 +31,15 @@ struct Hl2ssEndpoint {
   int port = 3804;
 };
 std::optional<Hl2ssEndpoint> ParseHl2ssUri(const std::string& uri);
+/// "hl2ss://HOST:PORT", the name of the peer in messages.
+std::string Hl2ssUri(const Hl2ssEndpoint& endpoint);
 
-/// Mode 2: downloads and decodes the AHAT calibration (one connection, closed by the server).
+/// Mode 2: the AHAT calibration blob as the device sends it (kHl2ssMode2Bytes; one connection,
+/// closed by the server). NetworkError when the connection fails or ends early.
+std::vector<std::uint8_t> DownloadHl2ssCalibrationBytes(const Hl2ssEndpoint& endpoint,
+                                                        double timeout_s = 10.0);
+
+/// Mode 2: downloads and decodes the AHAT calibration.
 AhatCalibration DownloadHl2ssCalibration(const Hl2ssEndpoint& endpoint, double timeout_s = 10.0,
                                          std::optional<double> sample_offset_override = {});
 
@@ -40,12 +47,13 @@ AhatCalibration DownloadHl2ssCalibration(const Hl2ssEndpoint& endpoint, double t
 /// recording decoder (RAW and ZDEPTH+RAW). Empty-AB packets are skipped, as hl2ss clients do.
 class Hl2ssAhatClient : public FrameSource {
  public:
-  /// IoError when the connection fails; PreconditionError for mode 2 (use the function above).
+  /// NetworkError when the connection fails; PreconditionError for mode 2 (use the function
+  /// above). `timeout_s` bounds the connection's handshake and every wait for data.
   Hl2ssAhatClient(const Hl2ssEndpoint& endpoint, const Hl2ssAhatConfig& config,
                   double timeout_s = 5.0);
 
-  /// The next frame; nullopt when the server closes between packets. IoError on a truncated or
-  /// oversized packet, a bad payload or a receive timeout.
+  /// The next frame; nullopt when the server closes between packets. NetworkError on a truncated
+  /// packet, a reset or a receive timeout; IoError on an oversized packet or a bad payload.
   std::optional<AhatFrame> Next() override;
   std::string description() const override;
   std::uint64_t packets() const { return packets_; }

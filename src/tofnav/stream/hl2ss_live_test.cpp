@@ -7,58 +7,24 @@
 #include "matchers.hpp"
 #include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/io_test_helpers.hpp"
 #include "tofnav/stream/hl2ss_client.hpp"
 #include "tofnav/stream/hl2ss_replay_server.hpp"
+#include "tofnav/stream/hl2ss_test_recording.hpp"
 
 namespace tofnav {
 namespace {
 
 constexpr int kFrames = 4;
 
-AhatFrame Frame(int index) {
-  AhatFrame f;
-  f.host_ticks = 1'000'000 + 222'222 * static_cast<std::uint64_t>(index);
-  f.sensor_ticks_ns = 5'000'000'000ULL + 22'222'222ULL * static_cast<std::uint64_t>(index);
-  f.range_mm = Image<std::uint16_t>(kAhatWidth, kAhatHeight);
-  f.ab = Image<std::uint16_t>(kAhatWidth, kAhatHeight);
-  for (int v = 0; v < kAhatHeight; ++v) {
-    for (int u = 0; u < kAhatWidth; ++u) {
-      f.range_mm(u, v) = static_cast<std::uint16_t>(300 + (u + 2 * v + 7 * index) % 400);
-      f.ab(u, v) = static_cast<std::uint16_t>((u * 31 + v * 17 + index) % 5000);
-    }
-  }
-  if (index != 2) {  // frame 2: the locator failed
-    f.world_from_rig =
-        Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.1 * index, Eigen::Vector3d::UnitY())),
-                {10.0 * index, 1600.0, -250.0});
-  }
-  return f;
-}
-
-struct Case {
-  testing::TempDir dir{"hl2ss_live"};
-  std::filesystem::path recording = dir.path() / "rm_depth_ahat.bin";
-  AhatCalibration calibration = MakeSyntheticAhatCalibration();
-
-  explicit Case(Hl2ssDepthProfile profile) {
-    Hl2ssRecordingWriter writer(recording, {.profile_z = profile});
-    for (int i = 0; i < kFrames; ++i) writer.Append(Frame(i));
-    writer.Close();
-    WriteHl2ssCalibration(dir.path(), calibration);
-  }
+struct Case : testing::Hl2ssTestRecording {
+  explicit Case(Hl2ssDepthProfile profile) : Hl2ssTestRecording("hl2ss_live", profile, kFrames) {}
   Hl2ssReplayServer Serve() const {
     return Hl2ssReplayServer(recording, dir.path(), {.port = 0, .realtime = false});
   }
 };
 
 Hl2ssAhatConfig Config(Hl2ssDepthProfile profile, std::uint8_t mode = 1) {
-  Hl2ssAhatConfig c;
-  c.mode = mode;
-  c.profile_z = profile;
-  c.bitrate_bps = Hl2ssDefaultAhatBitrate(profile, Hl2ssVideoProfile::kRaw);
-  c.encoder_options = {{10, 1}};
-  return c;
+  return testing::Hl2ssTestConfig(profile, mode);
 }
 
 void ExpectSameFrames(Hl2ssAhatClient& client, const Hl2ssRecording& recording, bool poses) {

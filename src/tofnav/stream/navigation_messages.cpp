@@ -88,8 +88,9 @@ std::vector<NamedMessage> EncodeNavigationGreetings(
 }
 
 std::string NavigationStatusLine(const NavigationState& s, const std::vector<Trajectory>& plan) {
-  std::string line = std::string(ToString(s.status)) + Format(" t=%.3fs", s.timestamp_s) +
-                     " ref=" + ToString(s.reference_status);
+  std::string line = std::string(ToString(s.status)) + Format(" t=%.3fs", s.timestamp_s);
+  if (s.status == NavigationStatus::kNoStream) line += Format(" down=%.1fs", s.stream_down_s);
+  line += std::string(" ref=") + ToString(s.reference_status);
   line += std::isfinite(s.reference_age_s) ? Format(" age=%.0fms", s.reference_age_s * 1e3)
                                            : " age=never";
   line += " markers=" + std::to_string(s.detected_markers);

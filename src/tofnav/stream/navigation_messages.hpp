@@ -41,7 +41,7 @@ std::vector<NamedMessage> EncodeNavigationGreetings(
     const std::optional<TriangleMesh>& head_in_tool);
 
 /// The one-line status: "TRACKING t=12.345s ref=ok age=0ms markers=7 | right-1 tip->entry 3.2mm
-/// angle 1.4deg depth 55.0mm".
+/// angle 1.4deg depth 55.0mm"; NO_STREAM adds how long the link has been down ("down=1.2s").
 std::string NavigationStatusLine(const NavigationState& state, const std::vector<Trajectory>& plan);
 
 }  // namespace tofnav

@@ -8,6 +8,7 @@
 
 #include "matchers.hpp"
 #include "tofnav/stream/igtl_receiver.hpp"
+#include "tofnav/stream/live_link.hpp"
 
 namespace tofnav {
 namespace {
@@ -90,6 +91,15 @@ TEST(NavigationMessages, GreetingsCarryRegistrationPlanAndSkin) {
   EXPECT_EQ(frames.at("SkinRas").content.size(), 92u);     // 3 points, 1 triangle
   EXPECT_TRUE(frames.count("AhatToRig"));
   EXPECT_FALSE(frames.count("HeadSurface"));
+}
+
+TEST(NavigationMessages, NoStreamSendsItsAgeAndNoTransform) {
+  // 1.5 s after a tracked frame at 12.5 s: the status string only, RasToWorld stopped exactly
+  // as for a lost reference (docs/navigation.md).
+  const auto frames = Decode(EncodeNavigationFrame(NoStreamState(Tracking(), 1.5), {}));
+  EXPECT_EQ(frames.size(), 1u);
+  EXPECT_EQ(DecodeIgtlStringContent(frames.at("NavigationStatus").content),
+            "NO_STREAM t=14.000s down=1.5s ref=out_of_view age=1500ms markers=0");
 }
 
 }  // namespace

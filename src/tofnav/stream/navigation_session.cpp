@@ -14,11 +14,7 @@ NavigationSessionStats RunNavigationSession(
     const std::optional<AhatFrame> frame = source.Next();
     if (!frame) break;
     const NavigationState state = navigator.Process(*frame);
-    if (server != nullptr) {
-      for (NamedMessage& m : EncodeNavigationFrame(state, navigator.navigation_case().plan)) {
-        server->Publish(std::move(m.bytes));
-      }
-    }
+    if (server != nullptr) PublishNavigationState(*server, state, navigator);
     if (stats.frames == 0) stats.first_timestamp_s = state.timestamp_s;
     stats.last_timestamp_s = state.timestamp_s;
     ++stats.frames;
@@ -35,10 +31,19 @@ NavigationSessionStats RunNavigationSession(
       case NavigationStatus::kNoWorldPose:
         ++stats.no_world_pose;
         break;
+      case NavigationStatus::kNoStream:  // between frames only (live_link.hpp)
+        break;
     }
     if (on_state) on_state(state);
   }
   return stats;
+}
+
+void PublishNavigationState(IgtlServer& server, const NavigationState& state,
+                            const Navigator& navigator) {
+  for (NamedMessage& m : EncodeNavigationFrame(state, navigator.navigation_case().plan)) {
+    server.Publish(std::move(m.bytes));
+  }
 }
 
 void SetNavigationGreetings(IgtlServer& server, const Navigator& navigator,

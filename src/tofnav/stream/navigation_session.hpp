@@ -31,6 +31,11 @@ NavigationSessionStats RunNavigationSession(
     const std::function<void(const NavigationState&)>& on_state = {},
     const std::atomic<bool>* stop = nullptr);
 
+/// Publishes EncodeNavigationFrame(state, plan) on `server`: the per-frame hook, also used for
+/// the NO_STREAM states of a live link that is down (live_link.hpp).
+void PublishNavigationState(IgtlServer& server, const NavigationState& state,
+                            const Navigator& navigator);
+
 /// Sets the greetings of a navigation stream on `server` (EncodeNavigationGreetings).
 void SetNavigationGreetings(IgtlServer& server, const Navigator& navigator,
                             const std::optional<TriangleMesh>& skin_in_image = {},
