@@ -99,6 +99,11 @@ int RunDemo(int argc, char** argv) {
                  "to the paper's 1000-frame sessions, slower)")
       ->check(CLI::Range(0.05, 20.0));
   app.add_option("--seed", seed, "random seed of the simulations");
+  double multipath_gain = 1.0;
+  app.add_option("--multipath-gain", multipath_gain,
+                 "one-bounce multipath of the simulations: 1 realism (the default), 0 off (the "
+                 "friendlier conditions of the earlier figures, docs/demo.md)")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_flag("--json", json, "print demo.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");
   CLI11_PARSE(app, argc, argv);
@@ -108,6 +113,11 @@ int RunDemo(int argc, char** argv) {
   ctx.seed = seed;
   ctx.quiet = quiet || json;
   ScaleDemoFrames(ctx, frames_scale);
+  if (multipath_gain != 1.0) {
+    ctx.vary_stage = ctx.vary_session = [multipath_gain](sim::Scenario& s) {
+      s.render.multipath.gain = multipath_gain;
+    };
+  }
   ctx.head = !head.empty()                         ? head
              : std::filesystem::exists(kCraniumCt) ? std::string("ct:") + kCraniumCt
                                                    : "phantom";
@@ -128,6 +138,7 @@ int RunDemo(int argc, char** argv) {
                 {"head", ctx.head},
                 {"seed", seed},
                 {"frames_scale", frames_scale},
+                {"multipath_gain", multipath_gain},
                 {"elapsed_s", 0.0},
                 {"stages", DemoJson::object()}};
   demo["stages"] = RunDemoStages(ctx, [&] {
