@@ -19,6 +19,7 @@
 #include "tofnav/io/navigation_csv.hpp"
 #include "tofnav/io/tool_json.hpp"
 #include "tofnav/io/transform_io.hpp"
+#include "tofnav/stream/headset_display.hpp"
 #include "tofnav/stream/hl2ss_client.hpp"
 #include "tofnav/stream/navigation_messages.hpp"
 #include "tofnav/stream/navigation_session.hpp"
@@ -47,7 +48,7 @@ int RunNavigate(int argc, char** argv) {
   std::filesystem::path calibration, tool_path, registration, plan_path, instrument_path, out;
   std::filesystem::path marker_error_path;
   std::filesystem::path skin_path, surface_path;
-  std::string trajectory, bind = "127.0.0.1", profile = "raw";
+  std::string trajectory, bind = "127.0.0.1", profile = "raw", hololens;
   int igtl_port = 18944;
   bool realtime = false, loop = false, quiet = false, json = false, no_igtl = false;
   double duration_s = 0.0;
@@ -69,6 +70,8 @@ int RunNavigate(int argc, char** argv) {
   app.add_option("--igtl-port", igtl_port, "OpenIGTLink server port (3D Slicer connects)");
   app.add_option("--igtl-bind", bind, "address to listen on (0.0.0.0: every interface)");
   app.add_flag("--no-igtl", no_igtl, "do not start the OpenIGTLink server");
+  app.add_option("--hololens", hololens,
+                 "show the plan on the headset: hl2ss remote Unity scene HOST[:PORT] (3816)");
   app.add_option("--sample-offset", sample_offset, "calibration table sample offset (0 or 0.5)");
   app.add_option("--profile", profile, "live depth profile: raw or zdepth")
       ->check(CLI::IsMember({"raw", "zdepth"}));
@@ -125,6 +128,12 @@ int RunNavigate(int argc, char** argv) {
     if (!surface_path.empty()) surface = ReadMesh(surface_path);
     SetNavigationGreetings(*server, navigator, skin, surface);
   }
+  std::unique_ptr<HeadsetDisplay> display;  // docs/navigation.md, "Headset display"
+  if (!hololens.empty()) {
+    HeadsetDisplayOptions o;
+    std::tie(o.host, o.port) = ParseRemoteSceneEndpoint(hololens);
+    display = std::make_unique<HeadsetDisplay>(c.plan, o);
+  }
   std::optional<AtomicFileWriter> csv;
   if (!out.empty()) {
     csv.emplace(out);
@@ -136,6 +145,7 @@ int RunNavigate(int argc, char** argv) {
   std::size_t frames_seen = 0;
   const auto on_state = [&](const NavigationState& s) {
     if (csv) csv->Write(NavigationCsvRow(s, c.plan));
+    if (display) display->Update(s);
     ++frames_seen;
     const auto now = std::chrono::steady_clock::now();
     if (status_line && now - last_draw > std::chrono::milliseconds(100)) {
@@ -164,6 +174,7 @@ int RunNavigate(int argc, char** argv) {
   const NavigationSessionStats stats =
       RunNavigationSession(*source, navigator, server.get(), on_frame, &stop);
   if (status_line) std::fprintf(stderr, "\n");
+  if (display) display->Close();  // removes the holograms
   if (csv) csv->Commit();
   nlohmann::ordered_json summary{{"source", source->description()},
                                  {"frames", stats.frames},
@@ -180,6 +191,12 @@ int RunNavigate(int argc, char** argv) {
                        {"messages_dropped", s.messages_dropped},
                        {"frames_received", s.frames_received},
                        {"crc_errors", s.crc_errors}};
+  }
+  if (display) {
+    const HeadsetDisplayStats h = display->stats();
+    summary["hololens"] = {{"connections", h.connections},     {"display_lists", h.display_lists},
+                           {"dropped", h.dropped},             {"disconnects", h.disconnects},
+                           {"connect_failures", h.connect_failures}, {"last_error", h.last_error}};
   }
   if (json) {
     std::cout << summary.dump(2) << "\n";
