@@ -6,9 +6,11 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <mutex>
 #include <thread>
 
+#include "headset_figure.hpp"
 #include "navigation_e2e_case.hpp"
 #include "tofnav/stream/fake_remote_scene_server.hpp"
 #include "tofnav/stream/headset_display.hpp"
@@ -48,6 +50,7 @@ TEST(HeadsetE2E, DisplayedPlanMatchesTheTruthInRealTime) {
   FakeRemoteSceneServer server;
   std::mutex mutex;
   std::vector<double> target_mm, entry_mm, path_mm;
+  FakeRemoteScene shown;  // the last scene with holograms on (for the figure)
   const std::size_t slots = HeadsetSlotCount(plan.size());
   server.SetOnDisplayList([&](const FakeRemoteScene& scene) {
     const std::lock_guard lock(mutex);
@@ -56,6 +59,7 @@ TEST(HeadsetE2E, DisplayedPlanMatchesTheTruthInRealTime) {
         return scene.objects.at(scene.created[scene.created.size() - slots + slot]);
       };
       if (!object(3 * i + 2).active) continue;
+      if (i == 0) shown = scene;
       const Eigen::Vector3d entry = world_from_image_true * plan[i].entry_lps_mm;
       const Eigen::Vector3d target = world_from_image_true * plan[i].target_lps_mm;
       const auto [bottom, top] = WorldCylinderEnds(object(3 * i + 2).transform);
@@ -72,12 +76,15 @@ TEST(HeadsetE2E, DisplayedPlanMatchesTheTruthInRealTime) {
   options.scene.max_pose_age_s = kMaxPoseAgeS;
   HeadsetDisplay display(plan, options);
   std::vector<double> process_ms;
+  Eigen::Vector3d eye_in_world = Eigen::Vector3d::Zero();
   const Clock::time_point start = Clock::now();
   for (std::size_t k = 0; k < frames.size(); ++k) {  // real time: one frame per 22.2 ms
     std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
                                               std::chrono::duration<double>(static_cast<double>(k) * kFramePeriodS)));
     const Clock::time_point arrival = Clock::now();
-    display.Update(navigator.Process(frames[k]));
+    const NavigationState state = navigator.Process(frames[k]);
+    display.Update(state);
+    if (state.world_from_rig) eye_in_world = state.world_from_rig->translation;
     process_ms.push_back(std::chrono::duration<double, std::milli>(Clock::now() - arrival).count());
   }
   ASSERT_TRUE(display.WaitUntilHandled(5.0));
@@ -105,6 +112,14 @@ TEST(HeadsetE2E, DisplayedPlanMatchesTheTruthInRealTime) {
   EXPECT_LE(testing::Percentile(path_mm, 0.5), kMaxMedianMm);
   EXPECT_LE(stats.max_shown_pose_age_s, kMaxPoseAgeS);
   EXPECT_TRUE(server.scene().objects.empty());  // removed on close
+  if (const char* figure = std::getenv("TOFNAV_HEADSET_FIGURE")) {  // docs/navigation.md 6.5
+    const sim::SceneObject& skin =
+        c.scenario.scene.objects[static_cast<std::size_t>(c.scenario.patient->object)];
+    testing::WriteHeadsetFigure(figure, shown, Transform(world_from_image_true, skin.mesh),
+                                eye_in_world, world_from_image_true * plan[0].entry_lps_mm,
+                                260.0);
+    std::printf("  figure: %s\n", figure);
+  }
 }
 
 }  // namespace

@@ -40,8 +40,7 @@ FakeRemoteSceneServer::FakeRemoteSceneServer(int port) {
 
 FakeRemoteSceneServer::~FakeRemoteSceneServer() {
   stop_ = true;
-  const std::uint64_t one = 1;
-  [[maybe_unused]] const ssize_t n = ::write(wake_.get(), &one, sizeof(one));
+  Wake();
   thread_.join();
 }
 
@@ -56,8 +55,16 @@ FakeRemoteSceneStats FakeRemoteSceneServer::stats() const {
 }
 
 void FakeRemoteSceneServer::SetStalled(bool stalled) {
-  const std::lock_guard lock(mutex_);
-  stalled_ = stalled;
+  {
+    const std::lock_guard lock(mutex_);
+    stalled_ = stalled;
+  }
+  Wake();  // the poll in progress must not read the client any more
+}
+
+void FakeRemoteSceneServer::Wake() {
+  const std::uint64_t one = 1;
+  [[maybe_unused]] const ssize_t n = ::write(wake_.get(), &one, sizeof(one));
 }
 
 void FakeRemoteSceneServer::DropClient() {
@@ -65,8 +72,7 @@ void FakeRemoteSceneServer::DropClient() {
     const std::lock_guard lock(mutex_);
     drop_ = true;
   }
-  const std::uint64_t one = 1;
-  [[maybe_unused]] const ssize_t n = ::write(wake_.get(), &one, sizeof(one));
+  Wake();
 }
 
 void FakeRemoteSceneServer::SetOnDisplayList(
@@ -207,6 +213,10 @@ void FakeRemoteSceneServer::Run() {
       }
     }
     if (fds[2].fd < 0 || (fds[2].revents & (POLLIN | POLLHUP | POLLERR)) == 0) continue;
+    {
+      const std::lock_guard lock(mutex_);
+      if (stalled_) continue;  // stalled while polling
+    }
     const ssize_t n = ::recv(client.get(), buffer, sizeof(buffer), 0);
     if (n <= 0) {
       client.Close();
@@ -217,9 +227,9 @@ void FakeRemoteSceneServer::Run() {
     try {
       for (const RemoteSceneCommand& c : TakeRemoteSceneCommands(received, kSource)) {
         const std::uint32_t result = Process(c);
-        ByteWriter w;
-        w.Le<std::uint32_t>(result);
-        results.insert(results.end(), w.bytes().begin(), w.bytes().end());
+        for (int byte = 0; byte < 4; ++byte) {  // little-endian u32
+          results.push_back(static_cast<std::uint8_t>(result >> (8 * byte)));
+        }
         {
           const std::lock_guard lock(mutex_);
           ++stats_.commands;

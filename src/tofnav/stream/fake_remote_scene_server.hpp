@@ -54,7 +54,8 @@ class FakeRemoteSceneServer {
   int port() const { return port_; }
   FakeRemoteScene scene() const;
   FakeRemoteSceneStats stats() const;
-  /// A stalled server accepts connections but reads nothing and answers nothing.
+  /// A stalled server accepts connections but reads nothing and answers nothing (from the next
+  /// command on: the thread is woken so that it stops reading at once).
   void SetStalled(bool stalled);
   /// Closes the current connection (a headset that drops off the network).
   void DropClient();
@@ -65,6 +66,7 @@ class FakeRemoteSceneServer {
 
  private:
   void Run();
+  void Wake();
   std::uint32_t Process(const RemoteSceneCommand& command);
   void Commit(bool end_of_display_list);
 

@@ -3,7 +3,10 @@
 // display").
 #include "tofnav/stream/remote_scene_protocol.hpp"
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/io/binary.hpp"
@@ -13,7 +16,25 @@ namespace {
 
 constexpr double kMetresPerMm = 1e-3;
 
-void PutTransform(ByteWriter& w, const UnityTransform& t) {
+// Little-endian payload bytes (a plain append: ByteWriter's resize trips GCC 12's
+// -Wstringop-overflow at -O3 when inlined many times).
+class Payload {
+ public:
+  template <typename T>
+  void Le(T value) {
+    std::uint8_t raw[sizeof(T)];
+    std::memcpy(raw, &value, sizeof(T));
+    if constexpr (std::endian::native == std::endian::big) std::reverse(raw, raw + sizeof(T));
+    bytes_.insert(bytes_.end(), raw, raw + sizeof(T));
+  }
+  void Text(std::string_view text) { bytes_.insert(bytes_.end(), text.begin(), text.end()); }
+  const std::vector<std::uint8_t>& bytes() const { return bytes_; }
+
+ private:
+  std::vector<std::uint8_t> bytes_;
+};
+
+void PutTransform(Payload& w, const UnityTransform& t) {
   for (int i = 0; i < 3; ++i) w.Le<float>(t.position_m[i]);
   w.Le<float>(t.rotation.x());
   w.Le<float>(t.rotation.y());
@@ -22,7 +43,7 @@ void PutTransform(ByteWriter& w, const UnityTransform& t) {
   for (int i = 0; i < 3; ++i) w.Le<float>(t.scale[i]);
 }
 
-void PutColour(ByteWriter& w, const Rgba& c) {
+void PutColour(Payload& w, const Rgba& c) {
   w.Le<float>(c.r);
   w.Le<float>(c.g);
   w.Le<float>(c.b);
@@ -40,36 +61,36 @@ Eigen::Quaternionf FromColumns(const Eigen::Vector3d& x, const Eigen::Vector3d& 
 }  // namespace
 
 void RemoteSceneCommands::Add(RemoteSceneCommandId id, std::span<const std::uint8_t> payload) {
-  ByteWriter w;
-  w.Le<std::uint32_t>(static_cast<std::uint32_t>(id));
-  w.Le<std::uint32_t>(static_cast<std::uint32_t>(payload.size()));
-  w.Bytes(payload);
-  bytes_.insert(bytes_.end(), w.bytes().begin(), w.bytes().end());
+  Payload header;
+  header.Le<std::uint32_t>(static_cast<std::uint32_t>(id));
+  header.Le<std::uint32_t>(static_cast<std::uint32_t>(payload.size()));
+  bytes_.insert(bytes_.end(), header.bytes().begin(), header.bytes().end());
+  bytes_.insert(bytes_.end(), payload.begin(), payload.end());
   ids_.push_back(id);
 }
 
 void RemoteSceneCommands::CreatePrimitive(UnityPrimitive type) {
-  ByteWriter w;
+  Payload w;
   w.Le<std::uint32_t>(static_cast<std::uint32_t>(type));
   Add(RemoteSceneCommandId::kCreatePrimitive, w.bytes());
 }
 
 void RemoteSceneCommands::SetActive(std::uint32_t key, bool active) {
-  ByteWriter w;
+  Payload w;
   w.Le<std::uint32_t>(key);
   w.Le<std::uint32_t>(active ? 1u : 0u);
   Add(RemoteSceneCommandId::kSetActive, w.bytes());
 }
 
 void RemoteSceneCommands::SetWorldTransform(std::uint32_t key, const UnityTransform& transform) {
-  ByteWriter w;
+  Payload w;
   w.Le<std::uint32_t>(key);
   PutTransform(w, transform);
   Add(RemoteSceneCommandId::kSetWorldTransform, w.bytes());
 }
 
 void RemoteSceneCommands::SetColour(std::uint32_t key, const Rgba& colour) {
-  ByteWriter w;
+  Payload w;
   w.Le<std::uint32_t>(key);
   PutColour(w, colour);
   Add(RemoteSceneCommandId::kSetColour, w.bytes());
@@ -79,11 +100,11 @@ void RemoteSceneCommands::CreateText() { Add(RemoteSceneCommandId::kCreateText, 
 
 void RemoteSceneCommands::SetText(std::uint32_t key, float font_size, const Rgba& colour,
                                   std::string_view utf8) {
-  ByteWriter w;
+  Payload w;
   w.Le<std::uint32_t>(key);
   w.Le<float>(font_size);
   PutColour(w, colour);
-  w.Text(std::string(utf8));
+  w.Text(utf8);
   Add(RemoteSceneCommandId::kSetText, w.bytes());
 }
 
@@ -94,7 +115,7 @@ void RemoteSceneCommands::Say(std::string_view utf8) {
 }
 
 void RemoteSceneCommands::Remove(std::uint32_t key) {
-  ByteWriter w;
+  Payload w;
   w.Le<std::uint32_t>(key);
   Add(RemoteSceneCommandId::kRemove, w.bytes());
 }
@@ -104,7 +125,7 @@ void RemoteSceneCommands::BeginDisplayList() { Add(RemoteSceneCommandId::kBeginD
 void RemoteSceneCommands::EndDisplayList() { Add(RemoteSceneCommandId::kEndDisplayList, {}); }
 
 void RemoteSceneCommands::SetTargetMode(std::uint32_t mode) {
-  ByteWriter w;
+  Payload w;
   w.Le<std::uint32_t>(mode);
   Add(RemoteSceneCommandId::kSetTargetMode, w.bytes());
 }
