@@ -110,7 +110,7 @@ void BM_FrameToSocketLatency(benchmark::State& state) {
     for (NamedMessage& m : EncodeNavigationFrame(s, c.navigation_case.plan)) {
       server.Publish(std::move(m.bytes));
     }
-    if (display) display->Update(s);  // after publishing, as RunNavigationSession's on_state
+    if (display) display->Update(s);    // after publishing, as RunNavigationSession's on_state
     if (!s.world_from_image) continue;  // nothing to wait for
     const auto on_socket = client.WaitFor(before);
     const double ms = std::chrono::duration<double, std::milli>(on_socket - arrival).count();

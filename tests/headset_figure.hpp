@@ -44,8 +44,8 @@ inline void WriteHeadsetFigure(const std::filesystem::path& path, const FakeRemo
       const double d = 1000.0 * o.transform.scale.x();
       const Eigen::Quaterniond along =
           Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitZ(), b - a);
-      meshes.push_back(Transform(Rigid3d(along, 0.5 * (a + b)),
-                                 sim::BoxMesh({d, d, (b - a).norm()})));
+      meshes.push_back(
+          Transform(Rigid3d(along, 0.5 * (a + b)), sim::BoxMesh({d, d, (b - a).norm()})));
     }
     colours.push_back(Blend(o.colour));
   }

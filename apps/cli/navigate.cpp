@@ -82,6 +82,8 @@ int RunNavigate(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no live status line");
   app.add_flag("--json", json, "print the summary as JSON");
   CLI11_PARSE(app, argc, argv);
+  HeadsetDisplayOptions headset;
+  if (!hololens.empty()) std::tie(headset.host, headset.port) = ParseRemoteSceneEndpoint(hololens);
 
   NavigationCase c;
   c.reference = ReadToolJson(tool_path);
@@ -129,11 +131,7 @@ int RunNavigate(int argc, char** argv) {
     SetNavigationGreetings(*server, navigator, skin, surface);
   }
   std::unique_ptr<HeadsetDisplay> display;  // docs/navigation.md, "Headset display"
-  if (!hololens.empty()) {
-    HeadsetDisplayOptions o;
-    std::tie(o.host, o.port) = ParseRemoteSceneEndpoint(hololens);
-    display = std::make_unique<HeadsetDisplay>(c.plan, o);
-  }
+  if (!hololens.empty()) display = std::make_unique<HeadsetDisplay>(c.plan, headset);
   std::optional<AtomicFileWriter> csv;
   if (!out.empty()) {
     csv.emplace(out);
@@ -194,9 +192,12 @@ int RunNavigate(int argc, char** argv) {
   }
   if (display) {
     const HeadsetDisplayStats h = display->stats();
-    summary["hololens"] = {{"connections", h.connections},     {"display_lists", h.display_lists},
-                           {"dropped", h.dropped},             {"disconnects", h.disconnects},
-                           {"connect_failures", h.connect_failures}, {"last_error", h.last_error}};
+    summary["hololens"] = {{"connections", h.connections},
+                           {"display_lists", h.display_lists},
+                           {"dropped", h.dropped},
+                           {"disconnects", h.disconnects},
+                           {"connect_failures", h.connect_failures},
+                           {"last_error", h.last_error}};
   }
   if (json) {
     std::cout << summary.dump(2) << "\n";

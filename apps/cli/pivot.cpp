@@ -52,9 +52,9 @@ int RunPivot(int argc, char** argv) {
   tracking.filter_enabled = false;  // raw poses: a filter lags the swing
   const MarkerSource source = OpenMarkerSource(source_args);
   ProgressBar progress("pivot", quiet || json);
-  const std::vector<ToolPoseRecord> records = TrackTools(
-      source, source_args.detection, {reference, instrument}, tracking, model,
-      [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+  const std::vector<ToolPoseRecord> records =
+      TrackTools(source, source_args.detection, {reference, instrument}, tracking, model,
+                 [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
   std::vector<Rigid3d> reference_from_instrument;
   for (std::size_t i = 0; i + 1 < records.size(); i += 2) {
     const auto& r = records[i].ahat_from_tool;
@@ -69,6 +69,7 @@ int RunPivot(int argc, char** argv) {
   nlohmann::ordered_json summary{{"recording", source_args.recording.string()},
                                  {"frames", source.frames},
                                  {"poses", result.poses},
+                                 {"outliers", result.outliers},
                                  {"status", ToString(result.status)},
                                  {"tip_mm", vector(result.tip_in_instrument)},
                                  {"pivot_in_reference_mm", vector(result.pivot_in_reference)},
@@ -84,7 +85,8 @@ int RunPivot(int argc, char** argv) {
     std::cout << summary.dump(2) << "\n";
   } else {
     std::cout << "pivot calibration of '" << instrument.name << "' against '" << reference.name
-              << "': " << result.poses << " poses of " << source.frames << " frames\n"
+              << "': " << result.poses << " poses of " << source.frames << " frames, "
+              << result.outliers << " dropped as outliers\n"
               << "  tip " << summary["tip_mm"].dump() << " mm, pivot "
               << summary["pivot_in_reference_mm"].dump() << " mm in the reference\n"
               << "  RMS " << result.rms_mm << " mm, max " << result.max_residual_mm

@@ -186,7 +186,8 @@ TEST(MotionPose, PivotKeepsTheTipAndSweepsTheCone) {
   }
   double widest = 0.0;
   for (const Eigen::Vector3d& a : shafts) {
-    for (const Eigen::Vector3d& b : shafts) widest = std::max(widest, std::acos(std::min(1.0, a.dot(b))));
+    for (const Eigen::Vector3d& b : shafts)
+      widest = std::max(widest, std::acos(std::min(1.0, a.dot(b))));
   }
   EXPECT_GT(widest, 1.5 * motion.pivot.tilt_rad);
   motion.pivot.tilt_rad = 2.0;

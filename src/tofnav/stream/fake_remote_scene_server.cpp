@@ -75,8 +75,7 @@ void FakeRemoteSceneServer::DropClient() {
   Wake();
 }
 
-void FakeRemoteSceneServer::SetOnDisplayList(
-    std::function<void(const FakeRemoteScene&)> callback) {
+void FakeRemoteSceneServer::SetOnDisplayList(std::function<void(const FakeRemoteScene&)> callback) {
   const std::lock_guard lock(mutex_);
   on_display_list_ = std::move(callback);
 }

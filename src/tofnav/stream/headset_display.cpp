@@ -110,15 +110,15 @@ void HeadsetDisplay::Run() {
       handled_.notify_all();
       continue;
     }
-    const bool visible = std::any_of(shown_.begin(), shown_.end(),
-                                     [](const Hologram& h) { return h.visible; });
+    const bool visible =
+        std::any_of(shown_.begin(), shown_.end(), [](const Hologram& h) { return h.visible; });
     if (!visible || expired_ ||
         Clock::now() - last_posted_at_ <= Seconds(options_.expire_after_s)) {
       continue;
     }
     ++stats_.expired;
-    Post hide{ComposeHeadsetScene(NavigationState{}, plan_, options_.scene), {},
-              last_posted_at_, 0};
+    Post hide{
+        ComposeHeadsetScene(NavigationState{}, plan_, options_.scene), {}, last_posted_at_, 0};
     lock.unlock();
     Handle(std::move(hide));
     lock.lock();
@@ -139,8 +139,8 @@ void HeadsetDisplay::Handle(Post post) {
     expired_ = false;
   }
   // The pose's age when it reaches the headset: never show one older than max_pose_age_s.
-  const double age_s = post.scene.pose_age_s +
-                       std::chrono::duration<double>(Clock::now() - post.posted_at).count();
+  const double age_s =
+      post.scene.pose_age_s + std::chrono::duration<double>(Clock::now() - post.posted_at).count();
   if (post.scene.shown && age_s > options_.scene.max_pose_age_s) {
     post.scene = ComposeHeadsetScene(NavigationState{}, plan_, options_.scene);
     const std::lock_guard lock(mutex_);
@@ -155,8 +155,8 @@ void HeadsetDisplay::Handle(Post post) {
     if (!HologramChanged(have, want, options_.min_move_mm, options_.min_turn_rad)) continue;
     const std::uint32_t key = keys_[s];
     if (want.visible) {
-      const bool moved = !have.visible || HologramMoved(have, want, options_.min_move_mm,
-                                                        options_.min_turn_rad);
+      const bool moved =
+          !have.visible || HologramMoved(have, want, options_.min_move_mm, options_.min_turn_rad);
       if (moved) c.SetWorldTransform(key, TransformOf(want, options_.scene.up_in_world));
       if (want.shape == HologramShape::kText) {
         if (want.text != have.text || !(want.colour == have.colour)) {
@@ -213,8 +213,8 @@ bool HeadsetDisplay::EnsureConnected() {
   next_connect_at_ = now + Seconds(options_.reconnect_interval_s);
   const HeadsetScene layout = ComposeHeadsetScene(NavigationState{}, plan_, options_.scene);
   try {
-    client_ = std::make_unique<RemoteSceneClient>(options_.host, options_.port,
-                                                  options_.io_timeout_s);
+    client_ =
+        std::make_unique<RemoteSceneClient>(options_.host, options_.port, options_.io_timeout_s);
     // tofnav owns the remote scene: whatever an earlier run left is removed.
     RemoteSceneCommands c;
     c.RemoveAll();

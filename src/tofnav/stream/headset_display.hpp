@@ -30,7 +30,7 @@ struct HeadsetDisplayOptions {
   /// No Update() for this long [s] (the navigation loop stalled): the holograms hide, so the
   /// wearer never sees a pose older than this.
   double expire_after_s = 0.1;
-  void Check() const;              // throws PreconditionError naming the bad field
+  void Check() const;  // throws PreconditionError naming the bad field
 };
 
 struct HeadsetDisplayStats {

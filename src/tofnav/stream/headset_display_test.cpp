@@ -22,7 +22,8 @@ std::vector<Trajectory> Plan() {
 }
 
 Rigid3d WorldFromImage(double shift_mm, double turn_rad) {
-  return {Eigen::Quaterniond(Eigen::AngleAxisd(0.4 + turn_rad, Eigen::Vector3d(1, 2, 0.5).normalized())),
+  return {Eigen::Quaterniond(
+              Eigen::AngleAxisd(0.4 + turn_rad, Eigen::Vector3d(1, 2, 0.5).normalized())),
           Eigen::Vector3d(100.0 + shift_mm, 1400.0, -350.0)};
 }
 
@@ -96,8 +97,7 @@ TEST(HeadsetDisplay, PathEndPointsFollowThePlanEveryFrame) {
       EXPECT_LT((bottom - t.target_in_world).norm(), kTolMm) << "frame " << frame;
       EXPECT_LT((top - (t.entry_in_world + 30.0 * out)).norm(), kTolMm) << "frame " << frame;
       const FakeSceneObject& entry = Slot(scene, 3 * i);
-      EXPECT_LT((WorldFromUnityPoint(entry.transform.position_m.cast<double>()) -
-                 t.entry_in_world)
+      EXPECT_LT((WorldFromUnityPoint(entry.transform.position_m.cast<double>()) - t.entry_in_world)
                     .norm(),
                 kTolMm);
     }
@@ -139,8 +139,8 @@ TEST(HeadsetDisplay, ColoursTextAndSpeechFollowTheInstrument) {
   EXPECT_EQ(scene.spoken, (std::vector<std::string>{"on target"}));
   scene = show(Tracked(pose, Eigen::Vector3d::Zero()));  // still on target: not said again
   EXPECT_EQ(scene.spoken.size(), 1u);
-  const Eigen::Vector3d u = (pose.rotation * (Plan()[0].target_lps_mm - Plan()[0].entry_lps_mm))
-                                .normalized();
+  const Eigen::Vector3d u =
+      (pose.rotation * (Plan()[0].target_lps_mm - Plan()[0].entry_lps_mm)).normalized();
   scene = show(Tracked(pose, 3.0 * u.unitOrthogonal()));  // 3 mm off the line: amber
   EXPECT_GT(Slot(scene, InstrumentTipSlot(2)).colour.r, 0.9f);
   EXPECT_LT(Slot(scene, InstrumentTipSlot(2)).colour.g, 0.8f);

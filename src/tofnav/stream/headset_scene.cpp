@@ -85,15 +85,16 @@ void HeadsetSceneOptions::Check() const {
           "HeadsetSceneOptions: on-target limits must be >= 0");
   Require(std::isfinite(max_pose_age_s) && max_pose_age_s > 0.0,
           "HeadsetSceneOptions.max_pose_age_s must be > 0");
-  Require(std::isfinite(font_size) && font_size > 0.0f, "HeadsetSceneOptions.font_size must be > 0");
+  Require(std::isfinite(font_size) && font_size > 0.0f,
+          "HeadsetSceneOptions.font_size must be > 0");
   Require(up_in_world.norm() > 0.0, "HeadsetSceneOptions.up_in_world must be non-zero");
 }
 
 std::size_t HeadsetSlotCount(std::size_t trajectories) { return 3 * trajectories + 3; }
 
 bool HeadsetPoseFresh(const NavigationState& state, double max_pose_age_s) {
-  const bool placed = state.status == NavigationStatus::kTracking ||
-                      state.status == NavigationStatus::kHolding;
+  const bool placed =
+      state.status == NavigationStatus::kTracking || state.status == NavigationStatus::kHolding;
   return placed && state.world_from_image.has_value() && state.reference_age_s <= max_pose_age_s;
 }
 
@@ -129,9 +130,9 @@ HeadsetScene ComposeHeadsetScene(const NavigationState& state, const std::vector
   if (scene.level != GuidanceLevel::kNoGuidance) {
     const Eigen::Vector3d tip = *state.tip_in_world;
     const Eigen::Vector3d back = -state.instrument_axis_in_world->normalized();
-    scene.holograms[InstrumentAxisSlot(n)] = Cylinder(
-        tip + options.instrument_length_mm * back, tip, options.instrument_diameter_mm,
-        level_colour);
+    scene.holograms[InstrumentAxisSlot(n)] =
+        Cylinder(tip + options.instrument_length_mm * back, tip, options.instrument_diameter_mm,
+                 level_colour);
     scene.holograms[InstrumentTipSlot(n)] = Sphere(tip, options.tip_diameter_mm, level_colour);
   }
   if (active < n) {

@@ -59,7 +59,7 @@ struct HeadsetSceneOptions {
 /// sphere, 3i + 2 path cylinder; then the instrument axis, its tip and the text panel.
 struct HeadsetScene {
   std::vector<Hologram> holograms;
-  bool shown = false;  // placed from a reference pose no older than max_pose_age_s
+  bool shown = false;       // placed from a reference pose no older than max_pose_age_s
   double pose_age_s = 0.0;  // the state's reference_age_s when shown
   GuidanceLevel level = GuidanceLevel::kNoGuidance;
 };

@@ -66,8 +66,14 @@ SocketFd ConnectWithin(const std::string& host, int port, double timeout_s,
 }  // namespace
 
 std::pair<std::string, int> ParseRemoteSceneEndpoint(const std::string& text) {
-  const std::optional<Hl2ssEndpoint> e = ParseHl2ssUri("hl2ss://" + text);
-  if (!e || e->host.empty()) throw IoError(text, std::nullopt, "expected HOST[:PORT]");
+  std::optional<Hl2ssEndpoint> e;
+  try {
+    e = ParseHl2ssUri("hl2ss://" + text);
+  } catch (const std::invalid_argument&) {
+  }
+  if (!e || e->host.empty()) {
+    throw IoError(text, std::nullopt, "expected HOST[:PORT] with a port in 1..65535");
+  }
   const bool has_port = text.find(':') != std::string::npos;
   return {e->host, has_port ? e->port : kRemoteScenePort};
 }

@@ -20,10 +20,10 @@ TEST(RemoteSceneProtocol, CommandsAreIdSizePayloadLittleEndian) {
   c.SetActive(0xAABBCCDDu, true);
   c.Say("on");
   c.RemoveAll();
-  const std::vector<std::uint8_t> expected = {
-      0x01, 0, 0, 0, 0x08, 0, 0, 0, 0xDD, 0xCC, 0xBB, 0xAA, 0x01, 0, 0, 0,  // set active
-      0x08, 0, 0, 0, 0x02, 0, 0, 0, 'o',  'n',                              // say
-      0x11, 0, 0, 0, 0x00, 0, 0, 0};                                        // remove all
+  const std::vector<std::uint8_t> expected = {0x01, 0,    0,    0, 0x08, 0, 0, 0, 0xDD, 0xCC,
+                                              0xBB, 0xAA, 0x01, 0, 0,    0,  // set active
+                                              0x08, 0,    0,    0, 0x02, 0, 0, 0, 'o',  'n',  // say
+                                              0x11, 0,    0,    0, 0x00, 0, 0, 0};  // remove all
   EXPECT_EQ(std::vector<std::uint8_t>(c.bytes().begin(), c.bytes().end()), expected);
   EXPECT_EQ(c.count(), 3u);
 }
@@ -65,8 +65,7 @@ TEST(RemoteSceneFrames, RotationsAreConjugatedByTheMirror) {
   std::mt19937 rng(3);
   std::normal_distribution<double> n;
   for (int i = 0; i < 20; ++i) {
-    const Eigen::Quaterniond r =
-        Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized();
+    const Eigen::Quaterniond r = Eigen::Quaterniond(n(rng), n(rng), n(rng), n(rng)).normalized();
     const Eigen::Vector3d p(n(rng) * 100, n(rng) * 100, n(rng) * 100);
     const Eigen::Quaterniond mirrored = MirrorZ(r);
     EXPECT_LT((UnityFromWorldPoint(r * p) - mirrored * UnityFromWorldPoint(p)).norm(), kExact);
@@ -130,8 +129,8 @@ TEST(RemoteSceneClient, KeysAndResultsComeBackPerCommand) {
 }
 
 TEST(RemoteSceneClient, EndpointParsing) {
-  EXPECT_EQ(ParseRemoteSceneEndpoint("192.168.1.7"), std::make_pair(std::string("192.168.1.7"),
-                                                                    kRemoteScenePort));
+  EXPECT_EQ(ParseRemoteSceneEndpoint("192.168.1.7"),
+            std::make_pair(std::string("192.168.1.7"), kRemoteScenePort));
   EXPECT_EQ(ParseRemoteSceneEndpoint("hl:4000"), std::make_pair(std::string("hl"), 4000));
   EXPECT_ANY_THROW(ParseRemoteSceneEndpoint(":4000"));
   EXPECT_ANY_THROW(ParseRemoteSceneEndpoint("hl:port"));

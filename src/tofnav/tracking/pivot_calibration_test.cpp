@@ -56,6 +56,21 @@ TEST(PivotCalibration, NoiseAveragesOut) {
   EXPECT_NEAR(r.rms_mm, 0.52, 0.08);
 }
 
+TEST(PivotCalibration, MisTrackedPosesAreDropped) {
+  // 5 % of the poses 20 mm off (a swapped marker, say): dropped by the refit, the tip as without.
+  constexpr double kMaxTipErrorMm = 0.2;
+  std::vector<Rigid3d> poses = Swings(0.6, 0.3, 400, 5);
+  for (std::size_t i = 0; i < poses.size(); i += 20) poses[i].translation.x() += 20.0;
+  const PivotCalibrationResult r = CalibratePivot(poses);
+  EXPECT_EQ(r.outliers, 20u);
+  EXPECT_LT((r.tip_in_instrument - kTip).norm(), kMaxTipErrorMm);
+  PivotCalibrationOptions keep_all;
+  keep_all.outlier_factor = 0.0;
+  const PivotCalibrationResult all = CalibratePivot(poses, keep_all);
+  EXPECT_EQ(all.outliers, 0u);
+  EXPECT_GT(all.rms_mm, 4.0 * r.rms_mm);  // sqrt(5 % x 20^2) = 4.5 mm against 0.52 mm
+}
+
 TEST(PivotCalibration, RefusesTooLittleRotationAndTooFewPoses) {
   const PivotCalibrationResult small = CalibratePivot(Swings(0.2, 0.1, 200, 3));  // <= 23 deg
   EXPECT_EQ(small.status, PivotStatus::kTooLittleRotation);
