@@ -34,8 +34,9 @@ class StampingClient {
     thread_ = std::thread([this] { Run(); });
   }
   ~StampingClient() {
-    socket_.Close();
+    ::shutdown(socket_.get(), SHUT_RDWR);  // wakes the blocked recv (closing alone does not)
     thread_.join();
+    socket_.Close();
   }
   /// Waits for the next RasToWorld arrival after `count` earlier ones.
   Clock::time_point WaitFor(std::uint64_t count) {
