@@ -59,8 +59,8 @@ TEST(PivotE2E, TipWithinHalfAMillimetreOfTheTruth) {
   std::printf(
       "pivot-calibration, %d frames: %zu poses (%zu outliers), range %.1f deg, RMS %.3f mm, max"
       " %.3f mm, tip error %.3f mm (tip %.1f mm from the markers)\n",
-      frames, result.poses, result.outliers, result.angular_range_rad * 180.0 / std::numbers::pi, result.rms_mm,
-      result.max_residual_mm, tip_error_mm, tip_truth.norm());
+      frames, result.poses, result.outliers, result.angular_range_rad * 180.0 / std::numbers::pi,
+      result.rms_mm, result.max_residual_mm, tip_error_mm, tip_truth.norm());
   const Eigen::Vector3d along = tip_truth.normalized();
   const Eigen::Vector3d error = result.tip_in_instrument - tip_truth;
   std::printf("  tip error along the shaft %+.3f mm, across %.3f mm\n", error.dot(along),
