@@ -34,7 +34,7 @@ TEST(HeadsetE2E, DisplayedPlanMatchesTheTruthInRealTime) {
   constexpr double kFramePeriodS = 1.0 / 45.0;
   // The headframe's two tools joined into one reference, as navigation_e2e_test measures the
   // entry error; the instrument has its own test (tofnav_stream_test, HeadsetDisplay.*).
-  const testing::EvdCase c = testing::MakeEvdCase(160, false);
+  const testing::EvdCase c = testing::MakeEvdCase(120, false);
   sim::Simulator simulator(c.scenario);
   std::vector<AhatFrame> frames;
   Rigid3d world_from_image_true;
