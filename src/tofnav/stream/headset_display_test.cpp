@@ -70,7 +70,8 @@ HeadsetDisplayOptions Options(const FakeRemoteSceneServer& server) {
   o.port = server.port();
   o.speech_interval_s = 0.0;
   o.reconnect_interval_s = 0.05;
-  o.expire_after_s = 60.0;  // the watchdog has its own test; slow (ASan) runs must not trip it
+  o.expire_after_s = 60.0;   // the watchdog has its own test; slow (ASan) runs must not trip it
+  o.io_timeout_s = kWait_s;  // nor a slow answer of the fake server
   return o;
 }
 
@@ -195,7 +196,7 @@ TEST(HeadsetDisplay, NoUpdateForLongerThanThePoseAgeHidesTheScene) {
 TEST(HeadsetDisplay, StalledOrDroppedHeadsetLosesUpdatesAndReconnects) {
   FakeRemoteSceneServer server;
   HeadsetDisplayOptions o = Options(server);
-  o.io_timeout_s = 0.2;
+  o.io_timeout_s = 0.5;  // a stalled server costs this per attempt
   HeadsetDisplay display(Plan(), o);
   display.Update(Tracked(WorldFromImage(0.0, 0.0)));
   ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
