@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Latency from frame arrival to RasToWorld on a client's socket: Navigator::Process, encoding,
-// IgtlServer::Publish, loopback TCP, client parse. Frames of evd-usecase paced at 45 Hz.
+// IgtlServer::Publish, loopback TCP, client parse. Frames of evd-usecase paced at 45 Hz. Argument:
+// 0 no headset display, 1 HeadsetDisplay to a fake remote scene, 2 the same server stalled.
 #include <benchmark/benchmark.h>
 #include <sys/socket.h>
 
@@ -8,11 +9,14 @@
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
+#include <memory>
 #include <mutex>
 #include <span>
 #include <thread>
 
 #include "navigation_e2e_case.hpp"
+#include "tofnav/stream/fake_remote_scene_server.hpp"
+#include "tofnav/stream/headset_display.hpp"
 #include "tofnav/stream/igtl_receiver.hpp"
 #include "tofnav/stream/igtl_server.hpp"
 #include "tofnav/stream/navigation_messages.hpp"
@@ -32,6 +36,7 @@ class StampingClient {
   ~StampingClient() {
     ::shutdown(socket_.get(), SHUT_RDWR);  // wakes the blocked recv (a close alone does not)
     thread_.join();
+    socket_.Close();
   }
   /// Waits for the next RasToWorld arrival after `count` earlier ones.
   Clock::time_point WaitFor(std::uint64_t count) {
@@ -77,6 +82,15 @@ void BM_FrameToSocketLatency(benchmark::State& state) {
   IgtlServer server({.port = 0});
   StampingClient client(server.port());
   while (server.stats().clients == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  std::unique_ptr<FakeRemoteSceneServer> headset;
+  std::unique_ptr<HeadsetDisplay> display;
+  if (state.range(0) > 0) {
+    headset = std::make_unique<FakeRemoteSceneServer>();
+    headset->SetStalled(state.range(0) == 2);
+    HeadsetDisplayOptions options;
+    options.port = headset->port();
+    display = std::make_unique<HeadsetDisplay>(c.navigation_case.plan, options);
+  }
   // Replays the 45 frames forwards and backwards (time stamps shifted to keep increasing).
   std::vector<double> latency_ms;
   std::size_t i = 0;
@@ -97,6 +111,7 @@ void BM_FrameToSocketLatency(benchmark::State& state) {
     for (NamedMessage& m : EncodeNavigationFrame(s, c.navigation_case.plan)) {
       server.Publish(std::move(m.bytes));
     }
+    if (display) display->Update(s);    // after publishing, as RunNavigationSession's on_state
     if (!s.world_from_image) continue;  // nothing to wait for
     const auto on_socket = client.WaitFor(before);
     const double ms = std::chrono::duration<double, std::milli>(on_socket - arrival).count();
@@ -114,8 +129,20 @@ void BM_FrameToSocketLatency(benchmark::State& state) {
   state.counters["max_ms"] = at(1.0);
   state.counters["measured"] = static_cast<double>(latency_ms.size());
   state.counters["dropped"] = static_cast<double>(server.stats().messages_dropped);
+  if (display) {
+    const HeadsetDisplayStats h = display->stats();
+    state.counters["display_lists"] = static_cast<double>(h.display_lists);
+    state.counters["display_dropped"] = static_cast<double>(h.dropped);
+  }
 }
-BENCHMARK(BM_FrameToSocketLatency)->UseManualTime()->Iterations(900)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FrameToSocketLatency)
+    ->ArgName("headset")  // 0 off, 1 on, 2 stalled server
+    ->Arg(0)
+    ->Arg(1)
+    ->Arg(2)
+    ->UseManualTime()
+    ->Iterations(900)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace tofnav

@@ -77,6 +77,10 @@ expect_failure "bad port" navigate hl2ss://host:x --tool "$scratch/ref.json" \
   --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json"
 expect_failure "HL2SSV23" navigate "$scratch/random.bin" --tool "$scratch/ref.json" \
   --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json" --no-igtl
+expect_failure "expected HOST[:PORT]" navigate "$scratch/random.bin" --tool "$scratch/ref.json" \
+  --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json" --no-igtl --hololens hl:x
+expect_failure "not an AHAT recording" pivot "$scratch/random.bin" --tool "$scratch/tri.json" \
+  --reference "$scratch/ref.json" --out "$scratch/instrument.json"
 printf 'timestamp_s,status\n1.0,tracking\n' >"$scratch/nav.csv"
 expect_failure "not a tofnav navigate CSV" evaluate guidance "$scratch/nav.csv" --truth "$scratch"
 mkdir -p "$scratch/nodemo"

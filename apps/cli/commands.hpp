@@ -12,6 +12,7 @@ int RunIdentify(int argc, char** argv);
 int RunInfo(int argc, char** argv);
 int RunReconstruct(int argc, char** argv);
 int RunNavigate(int argc, char** argv);
+int RunPivot(int argc, char** argv);
 int RunSimulate(int argc, char** argv);
 int RunSkin(int argc, char** argv);
 int RunRegister(int argc, char** argv);

@@ -27,6 +27,8 @@ constexpr Command kCommands[] = {
      tofnav::RunRegister},
     {"track", "poses of retro-reflective tools in a recording (CSV or JSON)", tofnav::RunTrack},
     {"tool-define", "a tool's marker geometry from a recording of the tool", tofnav::RunToolDefine},
+    {"pivot", "pivot calibration: an instrument's tip from a recording of it swung about a divot",
+     tofnav::RunPivot},
     {"fit-marker-error", "f_rf, the retro-reflector range error, from linear-stage recordings",
      tofnav::RunFitMarkerError},
     {"identify", "identify the patient-specific depth-error model (Eq. 3-7)", tofnav::RunIdentify},

@@ -21,6 +21,7 @@
 #include "tofnav/io/navigation_csv.hpp"
 #include "tofnav/io/tool_json.hpp"
 #include "tofnav/io/transform_io.hpp"
+#include "tofnav/stream/headset_display.hpp"
 #include "tofnav/stream/hl2ss_client.hpp"
 #include "tofnav/stream/live_link.hpp"
 #include "tofnav/stream/navigation_messages.hpp"
@@ -50,7 +51,7 @@ int RunNavigate(int argc, char** argv) {
   std::filesystem::path calibration, tool_path, registration, plan_path, instrument_path, out;
   std::filesystem::path marker_error_path;
   std::filesystem::path skin_path, surface_path;
-  std::string trajectory, bind = "127.0.0.1", profile = "raw";
+  std::string trajectory, bind = "127.0.0.1", profile = "raw", hololens;
   int igtl_port = 18944;
   bool realtime = false, loop = false, quiet = false, json = false, no_igtl = false;
   double duration_s = 0.0;
@@ -73,6 +74,8 @@ int RunNavigate(int argc, char** argv) {
   app.add_option("--igtl-port", igtl_port, "OpenIGTLink server port (3D Slicer connects)");
   app.add_option("--igtl-bind", bind, "address to listen on (0.0.0.0: every interface)");
   app.add_flag("--no-igtl", no_igtl, "do not start the OpenIGTLink server");
+  app.add_option("--hololens", hololens,
+                 "show the plan on the headset: hl2ss remote Unity scene HOST[:PORT] (3816)");
   app.add_option("--sample-offset", sample_offset, "calibration table sample offset (0 or 0.5)");
   app.add_option("--profile", profile, "live depth profile: raw or zdepth")
       ->check(CLI::IsMember({"raw", "zdepth"}));
@@ -87,6 +90,8 @@ int RunNavigate(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no live status line");
   app.add_flag("--json", json, "print the summary as JSON");
   CLI11_PARSE(app, argc, argv);
+  HeadsetDisplayOptions headset;
+  if (!hololens.empty()) std::tie(headset.host, headset.port) = ParseRemoteSceneEndpoint(hololens);
 
   NavigationCase c;
   c.reference = ReadToolJson(tool_path);
@@ -132,6 +137,8 @@ int RunNavigate(int argc, char** argv) {
     if (!surface_path.empty()) surface = ReadMesh(surface_path);
     SetNavigationGreetings(*server, navigator, skin, surface);
   }
+  std::unique_ptr<HeadsetDisplay> display;  // docs/navigation.md, "Headset display"
+  if (!hololens.empty()) display = std::make_unique<HeadsetDisplay>(c.plan, headset);
   std::optional<AtomicFileWriter> csv;
   if (!out.empty()) {
     csv.emplace(out);
@@ -144,6 +151,7 @@ int RunNavigate(int argc, char** argv) {
   NavigationState last;  // the last frame's state: NO_STREAM states continue it
   const auto on_state = [&](const NavigationState& s) {
     if (csv && s.status != NavigationStatus::kNoStream) csv->Write(NavigationCsvRow(s, c.plan));
+    if (display) display->Update(s);  // a NO_STREAM state carries no pose: the holograms hide
     if (s.status != NavigationStatus::kNoStream) {
       ++frames_seen;
       last = s;
@@ -193,6 +201,7 @@ int RunNavigate(int argc, char** argv) {
   const NavigationSessionStats stats =
       RunNavigationSession(*source, navigator, server.get(), on_frame, &stop);
   if (status_line) std::fprintf(stderr, "\n");
+  if (display) display->Close();  // removes the holograms
   if (csv) csv->Commit();
   const std::string reason = signals.signalled() ? "stopped by the user (Ctrl-C)"
                              : timed_out         ? "stopped after --duration-s"
@@ -218,6 +227,15 @@ int RunNavigate(int argc, char** argv) {
                        {"crc_errors", s.crc_errors}};
   }
   if (live != nullptr) summary["link"] = LinkSummary(live->stats());
+  if (display) {
+    const HeadsetDisplayStats h = display->stats();
+    summary["hololens"] = {{"connections", h.connections},
+                           {"display_lists", h.display_lists},
+                           {"dropped", h.dropped},
+                           {"disconnects", h.disconnects},
+                           {"connect_failures", h.connect_failures},
+                           {"last_error", h.last_error}};
+  }
   if (json) {
     std::cout << summary.dump(2) << "\n";
   } else if (!quiet) {

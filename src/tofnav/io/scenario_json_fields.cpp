@@ -208,6 +208,11 @@ sim::Motion ParseMotion(const Json& json, const std::string& where) {
     in.Read("aim_radius_mm", m.aim_radius_mm);
     in.Read("roll_span_rad", m.roll_span_rad);
     in.Read("period_s", m.period_s);
+  } else if (kind == "pivot") {
+    motion.kind = sim::MotionKind::kPivot;
+    in.Read("tilt_rad", motion.pivot.tilt_rad);
+    in.Read("period_s", motion.pivot.period_s);
+    in.Read("spin_rad", motion.pivot.spin_rad);
   } else if (kind == "sequence") {
     motion.kind = sim::MotionKind::kSequence;
     const std::string at = in.At("segments");
@@ -217,7 +222,7 @@ sim::Motion ParseMotion(const Json& json, const std::string& where) {
     }
   } else {
     Fail(in.At("kind"),
-         "unknown motion '" + kind + "' (static, linear, rotation, head_worn, sequence)");
+         "unknown motion '" + kind + "' (static, linear, rotation, head_worn, pivot, sequence)");
   }
   in.Finish();
   try {

@@ -30,6 +30,8 @@ const char* MotionKindName(sim::MotionKind kind) {
       return "head_worn";
     case sim::MotionKind::kSequence:
       return "sequence";
+    case sim::MotionKind::kPivot:
+      return "pivot";
   }
   return "?";
 }

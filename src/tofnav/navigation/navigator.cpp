@@ -144,6 +144,7 @@ void Navigator::PlaceInstrument(NavigationState& state, const TrackedTool& instr
       *state.world_from_rig * camera_.rig_from_ahat() * *state.ahat_from_instrument;
   state.tip_in_world = world_from_instrument * *case_.instrument->tip_in_tool;
   const Eigen::Vector3d axis_in_world = world_from_instrument.rotation * instrument_axis_in_tool_;
+  state.instrument_axis_in_world = axis_in_world;
   const PlacedTrajectory& t = state.plan[static_cast<std::size_t>(active_trajectory_)];
   state.guidance =
       ComputeGuidance(*state.tip_in_world, axis_in_world, t.entry_in_world, t.target_in_world);

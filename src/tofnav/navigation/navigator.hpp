@@ -71,6 +71,7 @@ struct NavigationState {
   std::optional<Rigid3d> ahat_from_instrument;  // measured in this frame
   std::optional<Rigid3d> tool_from_instrument;  // both tools measured in this frame
   std::optional<Eigen::Vector3d> tip_in_world;
+  std::optional<Eigen::Vector3d> instrument_axis_in_world;  // unit, towards the tip
   int active_trajectory = 0;
   std::optional<Guidance> guidance;  // instrument vs the active trajectory, in `world`
 };

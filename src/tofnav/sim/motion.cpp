@@ -83,6 +83,17 @@ Rigid3d HeadWornPose(const HeadWornMotion& m, double t_s, std::uint64_t seed) {
                  Eigen::Vector3d::Zero());
 }
 
+// Closed form of PivotMotion (motion.hpp): rotations about the mount origin, the tip.
+Rigid3d PivotPose(const Rigid3d& start, const PivotMotion& m, double t_s) {
+  const double phase = kTwoPi * t_s / m.period_s;
+  const double tilt_rad = m.tilt_rad * (0.8 + 0.2 * std::sin(phase / 2.7));
+  const Eigen::Vector3d tilt_axis(std::cos(phase), std::sin(phase), 0.0);
+  const Eigen::Quaterniond swing =
+      Eigen::AngleAxisd(tilt_rad, tilt_axis) *
+      Eigen::AngleAxisd(m.spin_rad * std::sin(phase / 1.7), Eigen::Vector3d::UnitZ());
+  return start * Rigid3d(swing, Eigen::Vector3d::Zero());
+}
+
 }  // namespace
 
 void Motion::Check() const {
@@ -125,6 +136,15 @@ void Motion::Check() const {
       Require(h.target_in_world.allFinite(), "Motion.head_worn.target must be finite");
       break;
     }
+    case MotionKind::kPivot:
+      Require(std::isfinite(pivot.tilt_rad) && pivot.tilt_rad >= 0.0 &&
+                  pivot.tilt_rad < 0.5 * std::numbers::pi,
+              "Motion.pivot.tilt_rad must be in [0, pi/2)");
+      Require(std::isfinite(pivot.period_s) && pivot.period_s > 0.0,
+              "Motion.pivot.period_s must be > 0");
+      Require(std::isfinite(pivot.spin_rad) && pivot.spin_rad >= 0.0,
+              "Motion.pivot.spin_rad must be >= 0");
+      break;
     case MotionKind::kSequence:
       Require(!segments.empty(), "Motion: a sequence needs at least one segment");
       for (const Motion& segment : segments) segment.Check();
@@ -179,6 +199,8 @@ Rigid3d MotionPose(const Motion& motion, std::int64_t slot, double rate_hz, std:
     }
     case MotionKind::kHeadWorn:
       return HeadWornPose(motion.head_worn, t_s, seed);
+    case MotionKind::kPivot:
+      return PivotPose(motion.start, motion.pivot, t_s);
     case MotionKind::kSequence: {
       std::int64_t begin = 0;
       for (std::size_t i = 0; i < motion.segments.size(); ++i) {

@@ -17,6 +17,7 @@ enum class MotionKind {
   kRotation,  // a rotation platform: start turned about an axis at constant angular speed
   kHeadWorn,  // an HMD wearer wandering around a target, looking at it
   kSequence,  // segments one after the other, each for a number of frame slots
+  kPivot,     // an instrument swung about its tip resting in a divot (pivot calibration)
 };
 
 /// Constant-speed travel along `direction_in_world` from the start pose.
@@ -57,6 +58,17 @@ struct HeadWornMotion {
   double period_s = 8.0;
 };
 
+/// An instrument whose tip rests in a divot while the hand swings it about the tip: the mount's
+/// origin is the tip (fixed at start.translation) and its +z the shaft (start's +z at rest). The
+/// shaft circles the rest axis once per `period_s`, tilted by a tilt that breathes between 60 %
+/// and 100 % of `tilt_rad` (so the whole cone is covered), and twists about itself by up to
+/// `spin_rad`. The shaft directions of two poses lie up to 2 tilt_rad apart.
+struct PivotMotion {
+  double tilt_rad = 0.45;  // 26 deg: directions up to 52 deg apart
+  double period_s = 4.0;
+  double spin_rad = 0.3;
+};
+
 /// A frame's motion. The pose it gives is world_from_mount (for a camera: world_from_ahat).
 struct Motion {
   MotionKind kind = MotionKind::kStatic;
@@ -64,6 +76,7 @@ struct Motion {
   LinearMotion linear;
   RotationMotion rotation;
   HeadWornMotion head_worn;
+  PivotMotion pivot;
   /// kSequence: played in order; each segment's own time starts at 0 when it begins. After the
   /// last segment the last one keeps running.
   std::vector<Motion> segments;

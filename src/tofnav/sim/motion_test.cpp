@@ -166,6 +166,34 @@ TEST(MotionPose, HeadWornIsReproducibleAndSeeded) {
   EXPECT_GT(TranslationDistanceMm(MotionPose(motion, 123, kRateHz, 6), a), 1.0);
 }
 
+// The tip (mount origin) never moves; the shaft sweeps a cone of up to tilt_rad about its rest
+// axis, covering directions up to ~2 tilt_rad apart within two periods.
+TEST(MotionPose, PivotKeepsTheTipAndSweepsTheCone) {
+  Motion motion;
+  motion.kind = MotionKind::kPivot;
+  motion.start = Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitX())),
+                         Eigen::Vector3d(10.0, 150.0, -380.0));
+  ASSERT_NO_THROW(motion.Check());
+  const Eigen::Vector3d rest = motion.start.rotation * Eigen::Vector3d::UnitZ();
+  std::vector<Eigen::Vector3d> shafts;
+  for (std::int64_t slot = 0; slot < 2 * 4 * 45; ++slot) {
+    const Rigid3d pose = MotionPose(motion, slot, kRateHz, 0);
+    EXPECT_LT((pose.translation - motion.start.translation).norm(), kExactMm);
+    shafts.push_back(pose.rotation * Eigen::Vector3d::UnitZ());
+    const double tilt = std::acos(std::clamp(shafts.back().dot(rest), -1.0, 1.0));
+    EXPECT_LE(tilt, motion.pivot.tilt_rad + 1e-9);
+    EXPECT_GE(tilt, 0.6 * motion.pivot.tilt_rad - 1e-9);
+  }
+  double widest = 0.0;
+  for (const Eigen::Vector3d& a : shafts) {
+    for (const Eigen::Vector3d& b : shafts)
+      widest = std::max(widest, std::acos(std::min(1.0, a.dot(b))));
+  }
+  EXPECT_GT(widest, 1.5 * motion.pivot.tilt_rad);
+  motion.pivot.tilt_rad = 2.0;
+  EXPECT_THROW(motion.Check(), PreconditionError);
+}
+
 TEST(Motion, CheckNamesTheBadField) {
   Motion motion = LinearStageMotion(Rigid3d(), Eigen::Vector3d::Zero(), 1.0, 1.0);
   EXPECT_THROW(motion.Check(), PreconditionError);

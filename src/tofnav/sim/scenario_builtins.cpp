@@ -9,6 +9,7 @@
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/sim/patient.hpp"
+#include "tofnav/sim/scenario_pivot.hpp"
 #include "tofnav/sim/shapes.hpp"
 #include "tofnav/sim/tool_presets.hpp"
 
@@ -344,6 +345,7 @@ constexpr Builtin kBuiltins[] = {
     {"reconstruction-shapes", ReconstructionShapesNylon, false},
     {"reconstruction-shapes-pp", ReconstructionShapesPhotopolymer, false},
     {"evd-usecase", EvdUseCase, true},
+    {"pivot-calibration", [](const PatientHead*) { return PivotCalibrationScenario(); }, false},
 };
 
 }  // namespace

@@ -32,7 +32,8 @@ TEST(BuiltinScenario, FrameCountsFollowThePaper) {
       {"marker-stage", 4 * 450},       {"materials", 15 * 6 * 250},
       {"head-identification", 1000},   {"depth-accuracy", 300},
       {"reconstruction", 2000},        {"evd-usecase", 2000},
-      {"reconstruction-shapes", 2000}, {"reconstruction-shapes-pp", 2000}};
+      {"reconstruction-shapes", 2000}, {"reconstruction-shapes-pp", 2000},
+      {"pivot-calibration", 450}};
   ASSERT_EQ(BuiltinScenarioNames().size(), frames.size());
   for (const auto& [name, count] : frames) {
     if (name == "head-identification" || name == "evd-usecase" || name == "reconstruction") {

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// A loopback stand-in for hl2ss's remote Unity scene (tests, benchmarks, figures): decodes every
+// command, keeps the scene, answers like the plugin (docs/navigation.md, "Headset display").
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "tofnav/stream/remote_scene_protocol.hpp"
+#include "tofnav/stream/socket.hpp"
+
+namespace tofnav {
+
+struct FakeSceneObject {
+  bool is_text = false;
+  UnityPrimitive primitive = UnityPrimitive::kSphere;
+  bool active = false;  // created inactive, as the plugin does
+  UnityTransform transform;
+  Rgba colour;
+  float font_size = 0.0f;
+  std::string text;
+};
+
+/// The scene as a wearer would see it after the last complete display list.
+struct FakeRemoteScene {
+  std::map<std::uint32_t, FakeSceneObject> objects;  // by key
+  std::vector<std::uint32_t> created;                // every key handed out, in order
+  std::vector<std::string> spoken;
+  std::uint64_t display_lists = 0;
+};
+
+struct FakeRemoteSceneStats {
+  std::uint64_t connections = 0;
+  std::uint64_t commands = 0;
+  std::uint64_t rejected = 0;  // answered 0: unknown key, short payload, unknown id
+};
+
+/// One client at a time (a new connection replaces the old). Keys are handed out as the plugin
+/// does (Unity instance ids: negative ints as u32, never 0).
+class FakeRemoteSceneServer {
+ public:
+  explicit FakeRemoteSceneServer(int port = 0);
+  ~FakeRemoteSceneServer();
+  FakeRemoteSceneServer(const FakeRemoteSceneServer&) = delete;
+  FakeRemoteSceneServer& operator=(const FakeRemoteSceneServer&) = delete;
+
+  int port() const { return port_; }
+  FakeRemoteScene scene() const;
+  FakeRemoteSceneStats stats() const;
+  /// A stalled server accepts connections but reads nothing and answers nothing (from the next
+  /// command on: the thread is woken so that it stops reading at once).
+  void SetStalled(bool stalled);
+  /// Closes the current connection (a headset that drops off the network).
+  void DropClient();
+  /// Called on the server thread with the scene after every display list.
+  void SetOnDisplayList(std::function<void(const FakeRemoteScene&)> callback);
+  /// Waits until `count` display lists have completed; false on timeout.
+  bool WaitForDisplayLists(std::uint64_t count, double timeout_s) const;
+
+ private:
+  void Run();
+  void Wake();
+  std::uint32_t Process(const RemoteSceneCommand& command);
+  void Commit(bool end_of_display_list);
+
+  SocketFd listener_;
+  SocketFd wake_;  // eventfd
+  int port_ = 0;
+  mutable std::mutex mutex_;
+  mutable std::condition_variable changed_;
+  FakeRemoteScene committed_;
+  FakeRemoteSceneStats stats_;
+  std::function<void(const FakeRemoteScene&)> on_display_list_;
+  bool stalled_ = false;
+  bool drop_ = false;
+  std::atomic<bool> stop_{false};
+  // Server thread only.
+  FakeRemoteScene working_;
+  bool in_display_list_ = false;
+  bool use_last_key_ = false;
+  std::uint32_t last_key_ = 0;
+  std::int32_t next_instance_id_ = -1200;
+  std::thread thread_;
+};
+
+}  // namespace tofnav

@@ -1,0 +1,302 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// HeadsetDisplay: latest-wins mailbox, sender thread, change detection and speech
+// (docs/navigation.md, "Headset display").
+#include "tofnav/stream/headset_display.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "tofnav/core/require.hpp"
+#include "tofnav/io/io_error.hpp"
+
+namespace tofnav {
+namespace {
+
+constexpr Rgba kNeverSent{-1.0f, -1.0f, -1.0f, -1.0f};
+
+std::chrono::steady_clock::duration Seconds(double s) {
+  return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(s));
+}
+
+UnityTransform TransformOf(const Hologram& h, const Eigen::Vector3d& up_in_world) {
+  switch (h.shape) {
+    case HologramShape::kSphere:
+      return UnitySphere(h.a_in_world, h.diameter_mm);
+    case HologramShape::kCylinder:
+      return UnityCylinder(h.a_in_world, h.b_in_world, h.diameter_mm);
+    case HologramShape::kText:
+      return UnityTextPanel(h.a_in_world, h.b_in_world, up_in_world);
+  }
+  return {};
+}
+
+bool Keyed(RemoteSceneCommandId id) {
+  return id == RemoteSceneCommandId::kSetActive || id == RemoteSceneCommandId::kSetWorldTransform ||
+         id == RemoteSceneCommandId::kSetColour || id == RemoteSceneCommandId::kSetText;
+}
+
+}  // namespace
+
+void HeadsetDisplayOptions::Check() const {
+  scene.Check();
+  Require(!host.empty(), "HeadsetDisplayOptions.host must not be empty");
+  Require(port >= 1 && port <= 65535, "HeadsetDisplayOptions.port must be in 1..65535");
+  Require(min_move_mm >= 0.0 && min_turn_rad >= 0.0,
+          "HeadsetDisplayOptions: min_move_mm and min_turn_rad must be >= 0");
+  Require(io_timeout_s > 0.0 && expire_after_s > 0.0 && reconnect_interval_s >= 0.0 &&
+              speech_interval_s >= 0.0,
+          "HeadsetDisplayOptions: timeouts must be > 0 and intervals >= 0");
+}
+
+HeadsetDisplay::HeadsetDisplay(std::vector<Trajectory> plan, const HeadsetDisplayOptions& options)
+    : plan_(std::move(plan)), options_(options) {
+  options_.Check();
+  thread_ = std::thread([this] { Run(); });
+}
+
+HeadsetDisplay::~HeadsetDisplay() { Close(); }
+
+void HeadsetDisplay::Update(const NavigationState& state) {
+  HeadsetScene scene = ComposeHeadsetScene(state, plan_, options_.scene);
+  std::vector<std::string> speech;
+  SpeakOnChange(scene, state, speech);
+  const std::lock_guard lock(mutex_);
+  ++stats_.updates;
+  if (mailbox_) {  // not taken yet: the newer scene wins, the words are kept
+    ++stats_.dropped;
+    speech.insert(speech.begin(), mailbox_->speech.begin(), mailbox_->speech.end());
+  }
+  mailbox_ = Post{std::move(scene), std::move(speech), Clock::now(), ++posted_};
+  wake_.notify_one();
+}
+
+void HeadsetDisplay::SpeakOnChange(const HeadsetScene& scene, const NavigationState& state,
+                                   std::vector<std::string>& speech) {
+  const Clock::time_point now = Clock::now();
+  const auto may_say = [&](std::optional<Clock::time_point>& said_at) {
+    if (said_at && now - *said_at < Seconds(options_.speech_interval_s)) return false;
+    said_at = now;
+    return true;
+  };
+  if (was_shown_ && !scene.shown && state.status == NavigationStatus::kReferenceLost &&
+      may_say(said_lost_at_)) {
+    speech.emplace_back("reference lost");
+  }
+  const GuidanceLevel level = scene.shown ? scene.level : GuidanceLevel::kNoGuidance;
+  if (level == GuidanceLevel::kOnTarget && last_level_ != GuidanceLevel::kOnTarget &&
+      may_say(said_on_target_at_)) {
+    speech.emplace_back("on target");
+  }
+  was_shown_ = scene.shown;
+  last_level_ = level;
+}
+
+void HeadsetDisplay::Run() {
+  std::unique_lock lock(mutex_);
+  while (!stop_) {
+    // Wakes for a post, or twice per expire_after_s to hide a scene no update refreshes.
+    wake_.wait_for(lock, Seconds(0.5 * options_.expire_after_s),
+                   [&] { return stop_ || mailbox_.has_value(); });
+    if (stop_) break;
+    if (mailbox_) {
+      Post post = std::move(*mailbox_);
+      mailbox_.reset();
+      const std::uint64_t sequence = post.sequence;
+      lock.unlock();
+      Handle(std::move(post));
+      lock.lock();
+      handled_sequence_ = std::max(handled_sequence_, sequence);
+      handled_.notify_all();
+      continue;
+    }
+    const bool visible =
+        std::any_of(shown_.begin(), shown_.end(), [](const Hologram& h) { return h.visible; });
+    if (!visible || expired_ ||
+        Clock::now() - last_posted_at_ <= Seconds(options_.expire_after_s)) {
+      continue;
+    }
+    ++stats_.expired;
+    Post hide{
+        ComposeHeadsetScene(NavigationState{}, plan_, options_.scene), {}, last_posted_at_, 0};
+    lock.unlock();
+    Handle(std::move(hide));
+    lock.lock();
+    expired_ = true;
+  }
+  lock.unlock();
+  RemoveHolograms();
+}
+
+void HeadsetDisplay::Handle(Post post) {
+  if (!EnsureConnected()) {
+    const std::lock_guard lock(mutex_);
+    ++stats_.dropped;
+    return;
+  }
+  if (post.sequence != 0) {
+    last_posted_at_ = post.posted_at;
+    expired_ = false;
+  }
+  // The pose's age when it reaches the headset: never show one older than max_pose_age_s.
+  const double age_s =
+      post.scene.pose_age_s + std::chrono::duration<double>(Clock::now() - post.posted_at).count();
+  if (post.scene.shown && age_s > options_.scene.max_pose_age_s) {
+    post.scene = ComposeHeadsetScene(NavigationState{}, plan_, options_.scene);
+    const std::lock_guard lock(mutex_);
+    ++stats_.too_old;
+  }
+  std::vector<Hologram> next = shown_;
+  RemoteSceneCommands c;
+  c.BeginDisplayList();
+  for (std::size_t s = 0; s < next.size(); ++s) {
+    const Hologram& want = post.scene.holograms[s];
+    const Hologram& have = shown_[s];
+    if (!HologramChanged(have, want, options_.min_move_mm, options_.min_turn_rad)) continue;
+    const std::uint32_t key = keys_[s];
+    if (want.visible) {
+      const bool moved =
+          !have.visible || HologramMoved(have, want, options_.min_move_mm, options_.min_turn_rad);
+      if (moved) c.SetWorldTransform(key, TransformOf(want, options_.scene.up_in_world));
+      if (want.shape == HologramShape::kText) {
+        if (want.text != have.text || !(want.colour == have.colour)) {
+          c.SetText(key, options_.scene.font_size, want.colour, want.text);
+        }
+      } else if (!(want.colour == have.colour)) {
+        c.SetColour(key, want.colour);
+      }
+      if (!have.visible) c.SetActive(key, true);
+      next[s] = want;
+      if (!moved) {  // keep what the headset shows, so small drifts add up to a send
+        next[s].a_in_world = have.a_in_world;
+        next[s].b_in_world = have.b_in_world;
+      }
+    } else {
+      if (have.visible) c.SetActive(key, false);
+      next[s].visible = false;
+    }
+  }
+  for (const std::string& words : post.speech) c.Say(words);
+  c.EndDisplayList();
+  if (c.count() == 2) {
+    const std::lock_guard lock(mutex_);
+    ++stats_.unchanged;
+    return;
+  }
+  try {
+    const std::vector<std::uint32_t> results = client_->Push(c);
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      if (Keyed(c.ids()[i]) && results[i] == 0) {
+        throw IoError(client_->endpoint(), std::nullopt,
+                      "command " + std::to_string(static_cast<std::uint32_t>(c.ids()[i])) +
+                          " was rejected (the scene was reset?)");
+      }
+    }
+  } catch (const IoError& e) {
+    Disconnect(e.what());
+    const std::lock_guard lock(mutex_);
+    ++stats_.dropped;
+    return;
+  }
+  shown_ = std::move(next);
+  const std::lock_guard lock(mutex_);
+  if (post.scene.shown) stats_.max_shown_pose_age_s = std::max(stats_.max_shown_pose_age_s, age_s);
+  ++stats_.display_lists;
+  stats_.commands += c.count();
+  stats_.spoken += post.speech.size();
+}
+
+bool HeadsetDisplay::EnsureConnected() {
+  if (client_) return true;
+  const Clock::time_point now = Clock::now();
+  if (next_connect_at_ && now < *next_connect_at_) return false;
+  next_connect_at_ = now + Seconds(options_.reconnect_interval_s);
+  const HeadsetScene layout = ComposeHeadsetScene(NavigationState{}, plan_, options_.scene);
+  try {
+    client_ =
+        std::make_unique<RemoteSceneClient>(options_.host, options_.port, options_.io_timeout_s);
+    // tofnav owns the remote scene: whatever an earlier run left is removed.
+    RemoteSceneCommands c;
+    c.RemoveAll();
+    c.SetTargetMode(0);
+    for (const Hologram& h : layout.holograms) {
+      if (h.shape == HologramShape::kText) {
+        c.CreateText();
+      } else {
+        c.CreatePrimitive(h.shape == HologramShape::kSphere ? UnityPrimitive::kSphere
+                                                            : UnityPrimitive::kCylinder);
+      }
+    }
+    const std::vector<std::uint32_t> results = client_->Push(c);
+    keys_.assign(results.begin() + 2, results.end());
+    if (std::find(keys_.begin(), keys_.end(), 0u) != keys_.end()) {
+      throw IoError(client_->endpoint(), std::nullopt, "the headset could not create a hologram");
+    }
+  } catch (const std::exception& e) {
+    client_.reset();
+    const std::lock_guard lock(mutex_);
+    ++stats_.connect_failures;
+    stats_.last_error = e.what();
+    return false;
+  }
+  shown_ = layout.holograms;  // created inactive
+  for (Hologram& h : shown_) h.colour = kNeverSent;
+  expired_ = false;
+  const std::lock_guard lock(mutex_);
+  ++stats_.connections;
+  stats_.connected = true;
+  return true;
+}
+
+void HeadsetDisplay::Disconnect(const std::string& error) {
+  client_.reset();
+  keys_.clear();
+  shown_.clear();
+  next_connect_at_ = Clock::now() + Seconds(options_.reconnect_interval_s);
+  const std::lock_guard lock(mutex_);
+  ++stats_.disconnects;
+  stats_.connected = false;
+  stats_.last_error = error;
+}
+
+void HeadsetDisplay::RemoveHolograms() {
+  if (!client_) return;
+  RemoteSceneCommands c;
+  c.BeginDisplayList();
+  for (const std::uint32_t key : keys_) c.Remove(key);
+  c.EndDisplayList();
+  try {
+    client_->Push(c);
+  } catch (const IoError& e) {
+    Disconnect(e.what());
+    return;
+  }
+  client_.reset();
+  const std::lock_guard lock(mutex_);
+  stats_.connected = false;
+}
+
+void HeadsetDisplay::Close() {
+  {
+    const std::lock_guard lock(mutex_);
+    if (stop_ && !thread_.joinable()) return;
+    stop_ = true;
+  }
+  wake_.notify_one();
+  if (thread_.joinable()) thread_.join();
+  const std::lock_guard lock(mutex_);
+  handled_sequence_ = posted_;
+  handled_.notify_all();
+}
+
+bool HeadsetDisplay::WaitUntilHandled(double timeout_s) {
+  std::unique_lock lock(mutex_);
+  return handled_.wait_for(lock, Seconds(timeout_s), [&] { return handled_sequence_ >= posted_; });
+}
+
+HeadsetDisplayStats HeadsetDisplay::stats() const {
+  const std::lock_guard lock(mutex_);
+  return stats_;
+}
+
+}  // namespace tofnav

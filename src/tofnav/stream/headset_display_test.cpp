@@ -1,0 +1,251 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// HeadsetDisplay against the fake remote scene: what a wearer would see, frame by frame.
+#include "tofnav/stream/headset_display.hpp"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+#include <random>
+
+#include "tofnav/navigation/guidance.hpp"
+#include "tofnav/stream/fake_remote_scene_server.hpp"
+
+namespace tofnav {
+namespace {
+
+constexpr double kFloatMm = 1e-3;  // float32 metres on the wire
+constexpr double kWait_s = 5.0;    // generous: ASan builds are slow
+
+std::vector<Trajectory> Plan() {
+  return {{"kocher_right", {-30.0, 40.0, 70.0}, {-5.0, 10.0, 5.0}},
+          {"kocher_left", {30.0, 40.0, 70.0}, {5.0, 10.0, 5.0}}};
+}
+
+Rigid3d WorldFromImage(double shift_mm, double turn_rad) {
+  return {Eigen::Quaterniond(
+              Eigen::AngleAxisd(0.4 + turn_rad, Eigen::Vector3d(1, 2, 0.5).normalized())),
+          Eigen::Vector3d(100.0 + shift_mm, 1400.0, -350.0)};
+}
+
+// A tracked frame; with `tip_offset`, an instrument whose tip lies `tip_offset` (in world, from
+// 10 mm before the entry on the planned line) and whose axis is turned by `tilt_rad`.
+NavigationState Tracked(const Rigid3d& world_from_image,
+                        std::optional<Eigen::Vector3d> tip_offset = std::nullopt,
+                        double tilt_rad = 0.0) {
+  NavigationState s;
+  s.status = NavigationStatus::kTracking;
+  s.reference_age_s = 0.0;
+  s.world_from_rig = Rigid3d(Eigen::Quaterniond::Identity(), {0.0, 1600.0, 300.0});
+  s.world_from_image = world_from_image;
+  for (const Trajectory& t : Plan()) {
+    s.plan.push_back({world_from_image * t.entry_lps_mm, world_from_image * t.target_lps_mm,
+                      t.entry_lps_mm, t.target_lps_mm});
+  }
+  if (tip_offset) {
+    const PlacedTrajectory& t = s.plan.front();
+    const Eigen::Vector3d u = (t.target_in_world - t.entry_in_world).normalized();
+    s.tip_in_world = t.entry_in_world - 10.0 * u + *tip_offset;
+    s.instrument_axis_in_world = Eigen::AngleAxisd(tilt_rad, u.unitOrthogonal()) * u;
+    s.guidance = ComputeGuidance(*s.tip_in_world, *s.instrument_axis_in_world, t.entry_in_world,
+                                 t.target_in_world);
+  }
+  return s;
+}
+
+NavigationState Lost(double age_s) {
+  NavigationState s;
+  s.status = NavigationStatus::kReferenceLost;
+  s.reference_age_s = age_s;
+  return s;
+}
+
+// The fake scene's object of display slot `slot` (objects are created in slot order).
+const FakeSceneObject& Slot(const FakeRemoteScene& scene, std::size_t slot) {
+  const std::size_t slots = HeadsetSlotCount(Plan().size());
+  return scene.objects.at(scene.created[scene.created.size() - slots + slot]);
+}
+
+HeadsetDisplayOptions Options(const FakeRemoteSceneServer& server) {
+  HeadsetDisplayOptions o;
+  o.port = server.port();
+  o.speech_interval_s = 0.0;
+  o.reconnect_interval_s = 0.05;
+  o.expire_after_s = 60.0;   // the watchdog has its own test; slow (ASan) runs must not trip it
+  o.io_timeout_s = kWait_s;  // nor a slow answer of the fake server
+  return o;
+}
+
+TEST(HeadsetDisplay, PathEndPointsFollowThePlanEveryFrame) {
+  // Issue 17: the displayed path equals the planned target and the extended entry within the
+  // send threshold (0.1 mm) plus float32 rounding, in every frame.
+  constexpr double kTolMm = 0.1 + kFloatMm;
+  FakeRemoteSceneServer server;
+  HeadsetDisplay display(Plan(), Options(server));
+  std::mt19937 rng(5);
+  std::normal_distribution<double> jitter(0.0, 0.3);
+  for (int frame = 0; frame < 40; ++frame) {
+    const NavigationState s = Tracked(WorldFromImage(jitter(rng), 0.002 * jitter(rng)));
+    display.Update(s);
+    ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+    const FakeRemoteScene scene = server.scene();
+    for (std::size_t i = 0; i < 2; ++i) {
+      const PlacedTrajectory& t = s.plan[i];
+      const Eigen::Vector3d out = (t.entry_in_world - t.target_in_world).normalized();
+      const FakeSceneObject& path = Slot(scene, 3 * i + 2);
+      ASSERT_TRUE(path.active);
+      EXPECT_EQ(path.primitive, UnityPrimitive::kCylinder);
+      const auto [bottom, top] = WorldCylinderEnds(path.transform);
+      EXPECT_LT((bottom - t.target_in_world).norm(), kTolMm) << "frame " << frame;
+      EXPECT_LT((top - (t.entry_in_world + 30.0 * out)).norm(), kTolMm) << "frame " << frame;
+      const FakeSceneObject& entry = Slot(scene, 3 * i);
+      EXPECT_LT((WorldFromUnityPoint(entry.transform.position_m.cast<double>()) - t.entry_in_world)
+                    .norm(),
+                kTolMm);
+    }
+    EXPECT_FALSE(Slot(scene, InstrumentAxisSlot(2)).active);  // no instrument
+  }
+  EXPECT_EQ(server.stats().rejected, 0u);
+}
+
+TEST(HeadsetDisplay, SmallMovesAreNotSent) {
+  FakeRemoteSceneServer server;
+  HeadsetDisplay display(Plan(), Options(server));
+  display.Update(Tracked(WorldFromImage(0.0, 0.0)));
+  display.Update(Tracked(WorldFromImage(0.0, 0.0)));
+  ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+  display.Update(Tracked(WorldFromImage(0.05, 0.0)));  // below 0.1 mm
+  ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+  const std::uint64_t lists = display.stats().display_lists;
+  EXPECT_EQ(lists, 1u);
+  display.Update(Tracked(WorldFromImage(0.3, 0.0)));
+  ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+  EXPECT_EQ(display.stats().display_lists, lists + 1);
+}
+
+TEST(HeadsetDisplay, ColoursTextAndSpeechFollowTheInstrument) {
+  FakeRemoteSceneServer server;
+  HeadsetDisplay display(Plan(), Options(server));
+  const Rigid3d pose = WorldFromImage(0.0, 0.0);
+  const auto show = [&](const NavigationState& s) {
+    display.Update(s);
+    EXPECT_TRUE(display.WaitUntilHandled(kWait_s));
+    return server.scene();
+  };
+  FakeRemoteScene scene = show(Tracked(pose, Eigen::Vector3d::Zero()));
+  const FakeSceneObject& tip = Slot(scene, InstrumentTipSlot(2));
+  EXPECT_TRUE(tip.active);
+  EXPECT_GT(tip.colour.g, 0.8f);  // green: on the line, along it
+  EXPECT_NE(Slot(scene, TextPanelSlot(2)).text.find("tip-entry 10.0 mm"), std::string::npos);
+  EXPECT_LT(Slot(scene, 3).colour.a, 0.5f);  // the other trajectory, dimmed
+  EXPECT_EQ(scene.spoken, (std::vector<std::string>{"on target"}));
+  scene = show(Tracked(pose, Eigen::Vector3d::Zero()));  // still on target: not said again
+  EXPECT_EQ(scene.spoken.size(), 1u);
+  const Eigen::Vector3d u =
+      (pose.rotation * (Plan()[0].target_lps_mm - Plan()[0].entry_lps_mm)).normalized();
+  scene = show(Tracked(pose, 3.0 * u.unitOrthogonal()));  // 3 mm off the line: amber
+  EXPECT_GT(Slot(scene, InstrumentTipSlot(2)).colour.r, 0.9f);
+  EXPECT_LT(Slot(scene, InstrumentTipSlot(2)).colour.g, 0.8f);
+  EXPECT_GT(Slot(scene, 2).colour.r, 0.9f);  // the active path takes the state colour
+  scene = show(Tracked(pose, Eigen::Vector3d::Zero(), 0.07));  // 4 deg tilt: amber
+  EXPECT_LT(Slot(scene, InstrumentTipSlot(2)).colour.g, 0.8f);
+  EXPECT_NE(Slot(scene, TextPanelSlot(2)).text.find("angle 4.0 deg"), std::string::npos);
+  scene = show(Tracked(pose, Eigen::Vector3d::Zero()));
+  EXPECT_EQ(scene.spoken.size(), 2u);  // back on target
+  scene = show(Tracked(pose));         // instrument gone: grey, hidden axis
+  EXPECT_FALSE(Slot(scene, InstrumentTipSlot(2)).active);
+  EXPECT_NEAR(Slot(scene, 2).colour.r, 0.6f, 1e-6f);
+}
+
+TEST(HeadsetDisplay, HologramsHideWhenTheReferenceIsLostAndReturnOnlyFresh) {
+  FakeRemoteSceneServer server;
+  HeadsetDisplay display(Plan(), Options(server));
+  const auto active_count = [&] {
+    EXPECT_TRUE(display.WaitUntilHandled(kWait_s));
+    int n = 0;
+    for (const auto& [key, o] : server.scene().objects) n += o.active ? 1 : 0;
+    return n;
+  };
+  display.Update(Tracked(WorldFromImage(0.0, 0.0)));
+  EXPECT_EQ(active_count(), 7);  // 2 x (entry, target, path) + text
+  NavigationState holding = Tracked(WorldFromImage(0.0, 0.0));
+  holding.status = NavigationStatus::kHolding;
+  holding.reference_age_s = 0.08;  // held, still within 100 ms
+  display.Update(holding);
+  EXPECT_EQ(active_count(), 7);
+  display.Update(Lost(0.12));  // the first frame past 100 ms
+  EXPECT_EQ(active_count(), 0);
+  display.Update(Lost(0.2));
+  EXPECT_EQ(active_count(), 0);
+  EXPECT_EQ(server.scene().spoken, (std::vector<std::string>{"reference lost"}));
+  display.Update(Tracked(WorldFromImage(0.0, 0.0)));
+  EXPECT_EQ(active_count(), 7);
+}
+
+TEST(HeadsetDisplay, NoUpdateForLongerThanThePoseAgeHidesTheScene) {
+  FakeRemoteSceneServer server;
+  HeadsetDisplayOptions o = Options(server);
+  o.expire_after_s = 0.1;
+  HeadsetDisplay display(Plan(), o);
+  display.Update(Tracked(WorldFromImage(0.0, 0.0)));
+  ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+  ASSERT_TRUE(server.WaitForDisplayLists(2, kWait_s));  // shown, then hidden by the watchdog
+  for (const auto& [key, object] : server.scene().objects) EXPECT_FALSE(object.active);
+  EXPECT_EQ(display.stats().expired, 1u);
+}
+
+TEST(HeadsetDisplay, StalledOrDroppedHeadsetLosesUpdatesAndReconnects) {
+  FakeRemoteSceneServer server;
+  HeadsetDisplayOptions o = Options(server);
+  o.io_timeout_s = 0.5;  // a stalled server costs this per attempt
+  HeadsetDisplay display(Plan(), o);
+  display.Update(Tracked(WorldFromImage(0.0, 0.0)));
+  ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+  server.SetStalled(true);
+  for (int i = 0; i < 50; ++i) display.Update(Tracked(WorldFromImage(i, 0.0)));  // never waits
+  ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+  EXPECT_GE(display.stats().disconnects, 1u);
+  EXPECT_GE(display.stats().dropped, 1u);
+  server.SetStalled(false);
+  server.DropClient();
+  const NavigationState last = Tracked(WorldFromImage(7.0, 0.0));
+  for (int i = 0; i < 200 && !display.stats().connected; ++i) {
+    display.Update(last);
+    ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  display.Update(last);
+  ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+  EXPECT_GE(display.stats().connections, 2u);
+  const auto [bottom, top] = WorldCylinderEnds(Slot(server.scene(), 2).transform);
+  EXPECT_LT((bottom - last.plan[0].target_in_world).norm(), 0.1 + kFloatMm);
+}
+
+TEST(HeadsetDisplay, CloseRemovesTheHolograms) {
+  FakeRemoteSceneServer server;
+  {
+    HeadsetDisplay display(Plan(), Options(server));
+    display.Update(Tracked(WorldFromImage(0.0, 0.0)));
+    ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+    EXPECT_EQ(server.scene().objects.size(), HeadsetSlotCount(2));
+  }
+  EXPECT_TRUE(server.scene().objects.empty());
+}
+
+TEST(HeadsetDisplay, AbsentHeadsetNeverBlocksUpdates) {
+  int port = 0;
+  {
+    FakeRemoteSceneServer gone;
+    port = gone.port();
+  }
+  HeadsetDisplayOptions o;
+  o.port = port;
+  HeadsetDisplay display(Plan(), o);
+  for (int i = 0; i < 100; ++i) display.Update(Tracked(WorldFromImage(i, 0.0)));
+  ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+  EXPECT_FALSE(display.stats().connected);
+  EXPECT_GE(display.stats().connect_failures, 1u);
+  EXPECT_EQ(display.stats().updates, 100u);
+}
+
+}  // namespace
+}  // namespace tofnav
