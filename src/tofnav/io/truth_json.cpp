@@ -30,6 +30,8 @@ const char* MotionKindName(sim::MotionKind kind) {
       return "head_worn";
     case sim::MotionKind::kSequence:
       return "sequence";
+    case sim::MotionKind::kKeyframes:
+      return "keyframes";
   }
   return "?";
 }
@@ -242,6 +244,15 @@ void SimulationTruthWriter::Append(const sim::SimulatedFrame& frame) {
     visible[scene.tools[static_cast<std::size_t>(marker.tool)].name].push_back(entry);
   }
   j["visible_markers"] = visible;
+  OrderedJson occluded = OrderedJson::object();
+  for (std::size_t m = 0; m < frame.marker_occluders.size(); ++m) {
+    const int object = frame.marker_occluders[m];
+    if (object < 0) continue;
+    const sim::MarkerTruth& marker = frame.render.markers[m];
+    occluded[scene.tools[static_cast<std::size_t>(marker.tool)].name].push_back(
+        {{"marker", marker.marker}, {"by", scene.objects[static_cast<std::size_t>(object)].name}});
+  }
+  j["occluded_markers"] = occluded;
   OrderedJson objects = OrderedJson::object();
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     objects[scene.objects[o].name] = MatrixJson(frame.ahat_from_objects[o]);

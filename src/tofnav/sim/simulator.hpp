@@ -28,7 +28,13 @@ struct SimulatedFrame {
   std::vector<Rigid3d> ahat_from_objects;  // per scene object
   /// Per render.markers entry: where its centre projects (our pixel coordinates), if it does.
   std::vector<std::optional<Eigen::Vector2d>> marker_pixels;
+  /// Per render.markers entry: the scene object that hides its centre (the first hit of the
+  /// pixel it projects into lies more than a marker radius + 1 mm in front of it), or -1.
+  std::vector<int> marker_occluders;
 };
+
+/// The object hiding each marker of `frame` (SimulatedFrame::marker_occluders).
+std::vector<int> MarkerOccluders(const Scene& scene, const SimulatedFrame& frame);
 
 /// World poses at frame slot `slot` of every mount of `scenario` (index order), with the seeds
 /// the Simulator uses.
