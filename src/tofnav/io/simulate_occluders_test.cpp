@@ -24,7 +24,8 @@ namespace {
 
 // A spheres-four instrument on a rod swinging 380-420 mm in front of a static headset, a wall
 // behind, and a hand that parks out of view but for slot 3, when it hovers 250 mm from the camera
-// across the instrument's line of sight. f_rf is off (retro_curve none): raw marker ranges.
+// across the instrument's line of sight. f_rf and the 1 mm cyclic wiggle are off (retro_curve none,
+// wiggle_amplitude_mm 0): raw marker ranges then carry no systematic error to correct.
 constexpr const char* kInstrumentScenario = R"({
   "name": "instrument-pass", "frames": 6,
   "materials": [{"name": "tape", "preset": "retro_reflective", "retro_curve": "none"}],
@@ -43,7 +44,8 @@ constexpr const char* kInstrumentScenario = R"({
     {"name": "drape", "shape": {"kind": "drape", "seed": 7, "cell_mm": 20},
      "pose": {"translation_mm": [0, 600, 600]}}],
   "tools": [{"name": "probe", "preset": "spheres-four", "material": "tape",
-             "mount": "probe_motion", "instrument": {"rod_diameter_mm": 4, "rod_length_mm": 200}}]
+             "mount": "probe_motion", "instrument": {"rod_diameter_mm": 4, "rod_length_mm": 200}}],
+  "render": {"sensor": {"wiggle_amplitude_mm": 0}}
 })";
 
 sim::Scenario InstrumentScenario() {
@@ -99,9 +101,10 @@ TEST(ScenarioJsonOccluders, BadKeyframesAndInstrumentsAreNamed) {
 
 TEST(RunSimulationOccluders, TheInstrumentIsTrackedAndTheHandRecordedAsItsOccluder) {
   // Tracking from the recording against truth.json, frames without occlusion. Raw spheres at
-  // 380-420 mm: about 0.2 mm of range noise per marker over 30-45 mm lever arms; 0.5 mm and 0.5 deg
+  // 380-420 mm: about 0.2 mm of range noise per marker over 30-45 mm lever arms (0.05-0.27 mm,
+  // 0.07-0.39 deg seen in single frames); 0.5 mm and 0.75 deg
   // bound that with margin, far below a wrong match (the markers are 44-81 mm apart).
-  constexpr double kMaxPositionErrorMm = 0.5, kMaxRotationErrorDeg = 0.5;
+  constexpr double kMaxPositionErrorMm = 0.5, kMaxRotationErrorDeg = 0.75;
   const sim::Scenario s = InstrumentScenario();
   SimulateOptions options;
   options.camera = testing::SharedCamera();
@@ -148,6 +151,8 @@ TEST(RunSimulationOccluders, TheInstrumentIsTrackedAndTheHandRecordedAsItsOcclud
 
 TEST(RunSimulationOccluders, ASunkMarkerIsRefusedBeforeAnythingIsWritten) {
   sim::Scenario s = InstrumentScenario();
+  sim::Motion& probe = s.mounts[static_cast<std::size_t>(s.FindMount("probe_motion"))].motion;
+  probe = sim::StaticMotion(probe.keyframes[0].pose);  // the same depth at every checked slot
   // Inside the rod, 0.45 mm off its axis (x 15.5, z -3): 1.55 mm from its surface, so the sphere
   // reaches 5.75 + 1.55 mm into it (the rod's 16 facets cut 0.04 mm inside the round).
   s.scene.tools[0].markers[0].centre_in_tool = {15.5, 0.0, -2.55};

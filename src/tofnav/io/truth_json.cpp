@@ -246,11 +246,13 @@ void SimulationTruthWriter::Append(const sim::SimulatedFrame& frame) {
   j["visible_markers"] = visible;
   OrderedJson occluded = OrderedJson::object();
   for (std::size_t m = 0; m < frame.marker_occluders.size(); ++m) {
-    const int object = frame.marker_occluders[m];
-    if (object < 0) continue;
+    const sim::MarkerOccluder& by = frame.marker_occluders[m];
+    if (!by.hidden()) continue;
     const sim::MarkerTruth& marker = frame.render.markers[m];
     occluded[scene.tools[static_cast<std::size_t>(marker.tool)].name].push_back(
-        {{"marker", marker.marker}, {"by", scene.objects[static_cast<std::size_t>(object)].name}});
+        {{"marker", marker.marker},
+         {"by", by.object >= 0 ? scene.objects[static_cast<std::size_t>(by.object)].name
+                               : scene.tools[static_cast<std::size_t>(by.tool)].name}});
   }
   j["occluded_markers"] = occluded;
   OrderedJson objects = OrderedJson::object();

@@ -15,9 +15,10 @@
 namespace tofnav::sim {
 namespace {
 
-constexpr std::int64_t kMoveSlots = 10;   // about 0.2 s in, 0.2 s out (0.5-1.5 m/s)
-constexpr double kHandOverSkinMm = 70.0;  // hand axis above the forehead
-constexpr double kOverToolMm = 55.0;      // hand axis or marker array above a tool's plate
+constexpr std::int64_t kMoveSlots = 10;    // about 0.2 s in, 0.2 s out (0.5-1.5 m/s)
+constexpr double kHandOverSkinMm = 70.0;   // hand axis above the forehead
+constexpr double kHandOverToolMm = 35.0;   // the palm's axis over reference_right's plate
+constexpr double kArrayOverToolMm = 25.0;  // the instrument's marker plane over reference_left's
 constexpr double kDrapeOverNeckMm = 15.0;
 constexpr double kDrapeClearanceMm = 22.0;  // opening beyond the cranium's cross-section
 
@@ -79,8 +80,9 @@ void AddEvdOccluders(Scenario& s, const PatientHead& head, int headframe, int re
   reference_pass.enter_slot = kEvdHandReferenceSlot;
   reference_pass.move_slots = kMoveSlots;
   reference_pass.hover_slots = 14;
-  reference_pass.hover = world({AlongX(hand_axis), right.translation + kOverToolMm * right_normal -
-                                                       hand_middle_mm * hand_axis});
+  reference_pass.hover =
+      world({AlongX(hand_axis),
+             right.translation + kHandOverToolMm * right_normal - hand_middle_mm * hand_axis});
   reference_pass.approach_mm = world_shift(-250.0 * hand_axis);
   reference_pass.leave_mm = world_shift(-250.0 * hand_axis + Eigen::Vector3d(0.0, 0.0, 60.0));
 
@@ -99,7 +101,7 @@ void AddEvdOccluders(Scenario& s, const PatientHead& head, int headframe, int re
   const InstrumentOptions instrument;
   const Eigen::Vector3d tip = InstrumentTipInTool(instrument);
   const Eigen::Vector3d array_centre_in_tool(tip.x(), tip.y() + instrument.rod_length_mm, 0.0);
-  const Eigen::Vector3d hover_centre = left.translation + kOverToolMm * left_normal;
+  const Eigen::Vector3d hover_centre = left.translation + kArrayOverToolMm * left_normal;
   Pass instrument_pass;
   instrument_pass.enter_slot = kEvdInstrumentSlot;
   instrument_pass.move_slots = kMoveSlots;
