@@ -149,6 +149,23 @@ TEST(RunSimulationOccluders, TheInstrumentIsTrackedAndTheHandRecordedAsItsOcclud
   EXPECT_TRUE(result.warnings.empty());
 }
 
+TEST(RunSimulationOccluders, AToolNeverFullyVisibleIsWarnedAbout) {
+  sim::Scenario s = InstrumentScenario();
+  s.frames = 1;
+  sim::Motion& hand = s.mounts[static_cast<std::size_t>(s.FindMount("hand_motion"))].motion;
+  // The palm's axis 250 mm away across the line of sight to marker 0 (at about (-30, -30, 372)):
+  // it hides that marker whole.
+  hand = sim::StaticMotion(Rigid3d(Eigen::Quaterniond::Identity(), {-60.0, -20.0, 250.0}));
+  SimulateOptions options;
+  options.camera = testing::SharedCamera();
+  const testing::TempDir dir("simulate_hidden");
+  const SimulateResult result = RunSimulation(s, dir.path(), options);
+  EXPECT_EQ(result.fully_visible_frames.at(0), 0);
+  EXPECT_EQ(result.warnings,
+            std::vector<std::string>{"tool 'probe' is never fully visible (all 4 markers) in the 1 "
+                                     "rendered frames"});
+}
+
 TEST(RunSimulationOccluders, ASunkMarkerIsRefusedBeforeAnythingIsWritten) {
   sim::Scenario s = InstrumentScenario();
   sim::Motion& probe = s.mounts[static_cast<std::size_t>(s.FindMount("probe_motion"))].motion;

@@ -12,8 +12,8 @@ namespace tofnav::sim {
 
 /// Slots of the passes (docs/simulator.md section 7): each enters at its first slot, moves in for
 /// kEvdMoveSlots, hovers, moves out for kEvdMoveSlots and is parked out of view again.
-inline constexpr std::int64_t kEvdHandForeheadSlot = 150;
-inline constexpr std::int64_t kEvdInstrumentSlot = 300;
+inline constexpr std::int64_t kEvdHandForeheadSlot = 400;
+inline constexpr std::int64_t kEvdInstrumentSlot = 540;
 inline constexpr std::int64_t kEvdHandReferenceSlot = 450;
 
 /// Adds drape "drape" (on `headframe`), hand "hand" and instrument "instrument" (a spheres-four

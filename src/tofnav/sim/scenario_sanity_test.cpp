@@ -75,14 +75,14 @@ TEST(ScenarioSanity, ADiscUnderAPlateIsRefusedAndOneOnItAccepted) {
   s.AddTool(tool, -1);
   EXPECT_TRUE(FindMarkerIntersections(s).empty());
   s.scene.tools[0].markers[1] =
-      DiscMarkerOnSurface({26.0, -22.0, 0.0}, Eigen::Vector3d::UnitZ(), 10.0, retro, -0.5);
+      DiscMarkerOnSurface({26.0, -22.0, 0.0}, Eigen::Vector3d::UnitZ(), 10.0, retro, -1.0);
   const std::vector<MarkerIntersection> found = FindMarkerIntersections(s);
   ASSERT_EQ(found.size(), 1u);
   EXPECT_EQ(found[0].marker, 1);
-  EXPECT_NEAR(found[0].depth_mm, 0.5, 1e-3);
+  EXPECT_NEAR(found[0].depth_mm, 1.0, 1e-3);
   EXPECT_EQ(DescribeMarkerIntersection(s, found[0]),
             "scenario: tool 'reference_left' marker 1 (disc, 10 mm) intersects the plate surface "
-            "by 0.5 mm");
+            "by 1.0 mm");
 }
 
 TEST(ScenarioSanity, SpheresOnPostsOverTheirPlateAreClear) {
