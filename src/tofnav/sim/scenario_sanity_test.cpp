@@ -113,6 +113,33 @@ TEST(ScenarioSanity, AHandThroughAMarkerAtAKeyframeIsFoundAtThatSlot) {
   EXPECT_NE(DescribeMarkerIntersection(s, found[0]).find(", at slot 40"), std::string::npos);
 }
 
+TEST(ScenarioSanity, StickersOnARoughSkinAreLiftedClearOfIt) {
+  // A 90 mm ball with a 2.5 mm wart 4 mm beside where a 10 mm sticker goes (straight anterior):
+  // flat on the ball, the sticker's rim would sink 2.5 mm into the wart.
+  TriangleMesh skin = SphereMesh(90.0, 192);
+  const TriangleMesh wart = SphereMesh(2.5, 16);
+  const auto offset = static_cast<int>(skin.vertices.size());
+  for (const Eigen::Vector3d& v : wart.vertices)
+    skin.vertices.push_back(v + Eigen::Vector3d(4, -90, 0));
+  skin.vertex_normals.insert(skin.vertex_normals.end(), wart.vertex_normals.begin(),
+                             wart.vertex_normals.end());
+  for (const Eigen::Vector3i& t : wart.triangles)
+    skin.triangles.push_back(t + Eigen::Vector3i::Constant(offset));
+  Scenario s;
+  s.name = "wart";
+  s.frames = 1;
+  PatientHead head = MeshHead(skin, "mesh:wart");
+  head.anatomy.centre_in_image = Eigen::Vector3d::Zero();  // the ball's centre
+  AddPatient(s, head, s.scene.AddMaterial(SkinMaterial()), -1, Rigid3d::Identity());
+  const int retro = s.scene.AddMaterial(RetroReflectiveMaterial());
+  s.AddTool(SkinStickers("sticker", head, {HeadDirection(0.0, 0.0)}, 10.0, retro), -1);
+  const Marker& sticker = s.scene.tools[0].markers[0];
+  // Lifted over the wart (2.5 mm high; the probes at half and full radius meet it 1 mm off its top,
+  // 2.29 mm high), against 0.24 mm on the bare ball.
+  EXPECT_GT(sticker.centre_in_tool.norm() - 90.0, 2.2);
+  EXPECT_TRUE(FindMarkerIntersections(s).empty());
+}
+
 TEST(ScenarioSanity, EveryBuiltInScenarioIsClear) {
   for (const std::string& name : BuiltinScenarioNames()) {
     const Scenario s = BuiltinScenario(name);
