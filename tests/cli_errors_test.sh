@@ -87,5 +87,17 @@ mkdir -p "$scratch/nodemo"
 expect_failure "$scratch/nodemo/demo.json" report "$scratch/nodemo"
 printf '{"format": "other"}' >"$scratch/nodemo/demo.json"
 expect_failure "not a tofnav demo summary" report "$scratch/nodemo"
+# A sphere sunk 3.1 mm into the phantom's scalp (its crown at z = 110 mm with image = world): refused
+# with one line naming the tool and the marker, nothing written (docs/simulator.md section 6.11).
+cat >"$scratch/sunk.json" <<'JSON'
+{"name": "sunk", "frames": 1, "patient": {"head": "phantom", "ct": {"write": false}},
+ "tools": [{"name": "reference_left", "markers": [
+   {"shape": "sphere", "diameter_mm": 11.5, "centre_mm": [30, 0, 200]},
+   {"shape": "sphere", "diameter_mm": 11.5, "centre_mm": [-30, 0, 200]},
+   {"shape": "sphere", "diameter_mm": 11.5, "centre_mm": [0, 0, 112.65]}]}]}
+JSON
+expect_failure "tofnav simulate: error: scenario: tool 'reference_left' marker 2 (sphere, 11.5 mm) intersects the head surface by 3.1 mm" \
+  simulate "$scratch/sunk.json" --out "$scratch/sunk_out" -q
+[ -e "$scratch/sunk_out" ] && { echo "FAIL: simulate wrote $scratch/sunk_out for a sunk marker"; failures=$((failures + 1)); }
 [ $failures -eq 0 ] && echo "all CLI error checks passed"
 exit $failures

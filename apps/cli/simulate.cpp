@@ -80,6 +80,9 @@ int RunSimulate(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   const SimulateResult result = RunSimulation(std::move(scenario), out_dir, options);
   progress.Finish();
+  for (const std::string& warning : result.warnings) {
+    std::cerr << "tofnav simulate: warning: " << warning << "\n";
+  }
   const double elapsed_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const double rate = elapsed_s > 0.0 ? static_cast<double>(result.frames) / elapsed_s : 0.0;
@@ -93,6 +96,7 @@ int RunSimulate(int argc, char** argv) {
                                    {"frames_per_s", rate},
                                    {"files", nlohmann::ordered_json::array()}};
     for (const std::filesystem::path& f : result.files) summary["files"].push_back(f.string());
+    summary["warnings"] = result.warnings;
     std::cout << summary.dump(2) << "\n";
     return EXIT_SUCCESS;
   }

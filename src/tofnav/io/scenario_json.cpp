@@ -10,6 +10,7 @@
 #include "tofnav/io/mesh_io.hpp"
 #include "tofnav/io/patient_head.hpp"
 #include "tofnav/io/scenario_json_internal.hpp"
+#include "tofnav/sim/occluders.hpp"
 #include "tofnav/sim/patient.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 #include "tofnav/sim/shapes.hpp"
@@ -103,8 +104,13 @@ class ScenarioBuilder {
     JsonFields in(json, at);
     std::string name;
     in.Read("name", name);
-    TriangleMesh mesh = internal::ParseShape(in.Get("shape"), in.At("shape"), base_);
-    const int material = MaterialIndex(in, "material", "diffuse");
+    const Json& shape = in.Get("shape");
+    TriangleMesh mesh = internal::ParseShape(shape, in.At("shape"), base_);
+    const std::string kind = shape.value("kind", "");  // a string: ParseShape checked it
+    const int material = MaterialIndex(in, "material",
+                                       kind == "hand"    ? "skin"
+                                       : kind == "drape" ? "drape"
+                                                         : "diffuse");
     const int mount = MountIndex(in);
     s_.AddObject(name, std::move(mesh), material, mount, PoseOf(in));
     in.Finish();
@@ -174,7 +180,21 @@ class ScenarioBuilder {
         s_.AddObject(name + "_plate", sim::PlaneMesh(plate.x(), plate.y()),
                      MaterialIndex(in, "plate_material", "diffuse"), mount, mount_from_tool);
       }
+      if (const Json* rod = in.Find("instrument")) {
+        JsonFields r(*rod, in.At("instrument"));
+        sim::InstrumentOptions options;
+        options.preset = preset;
+        r.Read("rod_diameter_mm", options.rod_diameter_mm);
+        r.Read("rod_length_mm", options.rod_length_mm);
+        TriangleMesh mesh;
+        internal::Checked(in.At("instrument"), [&] { mesh = sim::InstrumentRodMesh(options); });
+        s_.AddObject(name + "_rod", std::move(mesh), MaterialIndex(r, "rod_material", "diffuse"),
+                     mount, mount_from_tool);
+        r.Finish();
+      }
     } else {
+      if (in.Find("instrument") != nullptr)
+        Fail(in.At("instrument"), "an instrument needs a preset");
       tool.name = name;
       const Json& list = internal::ArrayAt(*markers, in.At("markers"));
       for (std::size_t i = 0; i < list.size(); ++i) {

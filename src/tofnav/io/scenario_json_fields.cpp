@@ -220,9 +220,23 @@ sim::Motion ParseMotion(const Json& json, const std::string& where) {
     for (std::size_t i = 0; i < segments.size(); ++i) {
       motion.segments.push_back(ParseMotion(segments[i], at + "[" + std::to_string(i) + "]"));
     }
+  } else if (kind == "keyframes") {
+    motion.kind = sim::MotionKind::kKeyframes;
+    const std::string at = in.At("keyframes");
+    const Json& keyframes = ArrayAt(in.Get("keyframes"), at);
+    for (std::size_t i = 0; i < keyframes.size(); ++i) {
+      const std::string item = at + "[" + std::to_string(i) + "]";
+      JsonFields k(keyframes[i], item);
+      sim::Keyframe keyframe;
+      k.Get("slot");  // required
+      k.Read("slot", keyframe.slot);
+      keyframe.pose = ParsePose(k.Get("pose"), k.At("pose"));
+      k.Finish();
+      motion.keyframes.push_back(keyframe);
+    }
   } else {
-    Fail(in.At("kind"),
-         "unknown motion '" + kind + "' (static, linear, rotation, head_worn, pivot, sequence)");
+    Fail(in.At("kind"), "unknown motion '" + kind +
+                            "' (static, linear, rotation, head_worn, pivot, sequence, keyframes)");
   }
   in.Finish();
   try {

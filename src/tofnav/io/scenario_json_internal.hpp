@@ -113,7 +113,7 @@ inline void Checked(const std::string& where, const std::function<void()>& check
 Rigid3d ParsePose(const Json& json, const std::string& where);
 sim::Motion ParseMotion(const Json& json, const std::string& where);
 /// A material by preset name ("skin", "nylon", "photopolymer", "pla", "pc_abs",
-/// "retro_reflective", "diffuse"), or nullopt.
+/// "retro_reflective", "diffuse", "drape"), or nullopt.
 std::optional<sim::Material> MaterialPreset(const std::string& name);
 sim::Material ParseMaterial(const Json& json, const std::string& where);
 sim::RenderOptions ParseRender(const Json& json, const std::string& where);

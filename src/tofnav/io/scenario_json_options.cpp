@@ -112,6 +112,7 @@ std::optional<Material> MaterialPreset(const std::string& name) {
   if (name == "pc_abs") return sim::PcAbsMaterial();
   if (name == "retro_reflective") return sim::RetroReflectiveMaterial();
   if (name == "diffuse") return sim::DiffuseMaterial(0.5);
+  if (name == "drape") return sim::DrapeMaterial();
   return std::nullopt;
 }
 

@@ -3,6 +3,7 @@
 #include "tofnav/io/mesh_io.hpp"
 #include "tofnav/io/scenario_json_internal.hpp"
 #include "tofnav/sim/head_phantom.hpp"
+#include "tofnav/sim/occluders.hpp"
 #include "tofnav/sim/shapes.hpp"
 
 namespace tofnav::internal {
@@ -16,6 +17,19 @@ constexpr Field<HeadPhantomOptions> kPhantomFields[] = {
     {"brow_height_mm", &HeadPhantomOptions::brow_height_mm},
     {"eye_socket_depth_mm", &HeadPhantomOptions::eye_socket_depth_mm},
     {"neck_cut_fraction", &HeadPhantomOptions::neck_cut_fraction}};
+
+constexpr Field<sim::HandOptions> kHandFields[] = {
+    {"forearm_diameter_mm", &sim::HandOptions::forearm_diameter_mm},
+    {"forearm_length_mm", &sim::HandOptions::forearm_length_mm},
+    {"hand_diameter_mm", &sim::HandOptions::hand_diameter_mm},
+    {"hand_length_mm", &sim::HandOptions::hand_length_mm}};
+
+constexpr Field<sim::DrapeOptions> kDrapeFields[] = {
+    {"width_mm", &sim::DrapeOptions::width_mm},
+    {"height_mm", &sim::DrapeOptions::height_mm},
+    {"cell_mm", &sim::DrapeOptions::cell_mm},
+    {"wrinkle_amplitude_mm", &sim::DrapeOptions::wrinkle_amplitude_mm},
+    {"wrinkle_wavelength_mm", &sim::DrapeOptions::wrinkle_wavelength_mm}};
 
 }  // namespace
 
@@ -63,6 +77,25 @@ TriangleMesh ParseShape(const Json& json, const std::string& where,
       in.Read("size_mm", size_mm);
       mesh =
           sim::TestShapeMesh(ReadEnum(in, "shape", sim::TestShape::kHemisphere, shapes), size_mm);
+    } else if (kind == "capsule") {
+      double diameter_mm = 20.0, length_mm = 100.0;
+      int segments = 32;
+      in.Read("diameter_mm", diameter_mm);
+      in.Read("length_mm", length_mm);
+      in.Read("segments", segments);
+      if (segments > kMaxSegments) Fail(in.At("segments"), "must be <= 1024");
+      mesh = sim::CapsuleMesh(diameter_mm, length_mm, segments);
+    } else if (kind == "hand") {
+      sim::HandOptions hand;
+      ReadFields(in, hand, kHandFields);
+      in.Read("segments", hand.segments);
+      mesh = sim::HandMesh(hand);
+    } else if (kind == "drape") {
+      sim::DrapeOptions drape;
+      ReadFields(in, drape, kDrapeFields);
+      in.Read("opening_semi_axes_mm", drape.opening_semi_axes_mm);
+      in.Read("seed", drape.seed);
+      mesh = sim::DrapeMesh(drape);
     } else if (kind == "head_phantom") {
       mesh = sim::HeadPhantomMesh(ParsePhantomOptions(in));
     } else if (kind == "mesh") {
@@ -73,7 +106,8 @@ TriangleMesh ParseShape(const Json& json, const std::string& where,
       if (mesh.vertex_normals.empty()) mesh.vertex_normals = mesh.ComputeVertexNormals();
     } else {
       Fail(in.At("kind"),
-           "unknown shape '" + kind + "' (plane, box, sphere, test_shape, head_phantom, mesh)");
+           "unknown shape '" + kind +
+               "' (plane, box, sphere, capsule, hand, drape, test_shape, head_phantom, mesh)");
     }
   });
   in.Finish();

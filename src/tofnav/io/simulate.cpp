@@ -16,6 +16,7 @@
 #include "tofnav/io/truth_json.hpp"
 #include "tofnav/io/volume_io.hpp"
 #include "tofnav/sim/random.hpp"
+#include "tofnav/sim/scenario_sanity.hpp"
 #include "tofnav/sim/simulator.hpp"
 
 namespace tofnav {
@@ -111,6 +112,18 @@ void WriteToolFiles(const sim::Scenario& s, const std::filesystem::path& out_dir
   WriteHeadframeTool(s, out_dir, files);
 }
 
+// Adds one to the tools of `frame` whose every marker has a pixel.
+void CountFullyVisible(const sim::Scene& scene, const sim::SimulatedFrame& frame,
+                       std::vector<std::int64_t>& counts) {
+  std::vector<std::size_t> seen(scene.tools.size(), 0);
+  for (const sim::MarkerTruth& m : frame.render.markers) {
+    if (m.pixel_count > 0) ++seen[static_cast<std::size_t>(m.tool)];
+  }
+  for (std::size_t t = 0; t < scene.tools.size(); ++t) {
+    if (seen[t] == scene.tools[t].markers.size()) ++counts[t];
+  }
+}
+
 }  // namespace
 
 void SimulateOptions::Check() const {
@@ -125,6 +138,7 @@ SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path
   if (options.frames) scenario.frames = *options.frames;
   if (options.seed) scenario.seed = *options.seed;
   scenario.Check();
+  sim::RequireMarkersClear(scenario);
   std::filesystem::create_directories(out_dir);
 
   sim::Simulator simulator(scenario, options.camera);
@@ -149,12 +163,14 @@ SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path
   if (options.truth_depth) truth_range.emplace(out_dir / kTruthRangeName);
 
   SimulateResult result;
+  result.fully_visible_frames.assign(scenario.scene.tools.size(), 0);
   const auto total = static_cast<std::size_t>(scenario.frames);
   std::uint64_t first_ticks = 0, last_ticks = 0;
   while (!simulator.done()) {
     const sim::SimulatedFrame frame = simulator.Next();
     recording.Append(frame.render.frame);
     truth.Append(frame);
+    CountFullyVisible(scenario.scene, frame, result.fully_visible_frames);
     if (truth_range) {
       const std::span<const float> range = frame.render.truth_range_mm.pixels();
       truth_range->Write({reinterpret_cast<const std::uint8_t*>(range.data()), range.size_bytes()});
@@ -170,6 +186,13 @@ SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path
   if (truth_range) truth_range->Commit();
   result.duration_s = static_cast<double>(last_ticks - first_ticks) * kSecondsPerHostTick;
   for (const auto& [role, name] : info.files) result.files.emplace_back(name);
+  for (std::size_t t = 0; t < scenario.scene.tools.size(); ++t) {
+    if (result.fully_visible_frames[t] > 0) continue;
+    const sim::Tool& tool = scenario.scene.tools[t];
+    result.warnings.push_back("tool '" + tool.name + "' is never fully visible (all " +
+                              std::to_string(tool.markers.size()) + " markers) in the " +
+                              std::to_string(result.frames) + " rendered frames");
+  }
   result.files.emplace_back(kTruthName);
   return result;
 }

@@ -35,13 +35,18 @@ struct SimulateResult {
   std::int64_t dropped_slots = 0;
   double duration_s = 0.0;                   // recording time, first to last frame
   std::vector<std::filesystem::path> files;  // relative to the output folder
+  /// Per scene tool: frames in which every marker was hit by at least one pixel-centre ray.
+  std::vector<std::int64_t> fully_visible_frames;
+  /// One line each, e.g. a tool that is never fully visible in the rendered frames.
+  std::vector<std::string> warnings;
 };
 
 /// Writes into `out_dir` (created if missing): rm_depth_ahat.bin (hl2ss, pose mode 1),
 /// calibration/rm_depth_ahat/*, truth.json, and with options.truth_depth truth_range_f32.bin;
 /// with a patient also ct.nrrd, skin_truth.ply and plan.mrk.json. Frames are rendered and
 /// written one at a time (memory does not grow with the frame count); every file is atomic.
-/// The same scenario and seed give byte-identical files.
+/// The same scenario and seed give byte-identical files. Refuses (PreconditionError, before
+/// writing anything) a scenario whose markers reach into other surfaces (sim::RequireMarkersClear).
 SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path& out_dir,
                              const SimulateOptions& options = {});
 

@@ -32,6 +32,8 @@ const char* MotionKindName(sim::MotionKind kind) {
       return "sequence";
     case sim::MotionKind::kPivot:
       return "pivot";
+    case sim::MotionKind::kKeyframes:
+      return "keyframes";
   }
   return "?";
 }
@@ -243,6 +245,17 @@ void SimulationTruthWriter::Append(const sim::SimulatedFrame& frame) {
     visible[scene.tools[static_cast<std::size_t>(marker.tool)].name].push_back(entry);
   }
   j["visible_markers"] = visible;
+  OrderedJson occluded = OrderedJson::object();
+  for (std::size_t m = 0; m < frame.marker_occluders.size(); ++m) {
+    const sim::MarkerOccluder& by = frame.marker_occluders[m];
+    if (!by.hidden()) continue;
+    const sim::MarkerTruth& marker = frame.render.markers[m];
+    occluded[scene.tools[static_cast<std::size_t>(marker.tool)].name].push_back(
+        {{"marker", marker.marker},
+         {"by", by.object >= 0 ? scene.objects[static_cast<std::size_t>(by.object)].name
+                               : scene.tools[static_cast<std::size_t>(by.tool)].name}});
+  }
+  j["occluded_markers"] = occluded;
   OrderedJson objects = OrderedJson::object();
   for (std::size_t o = 0; o < scene.objects.size(); ++o) {
     objects[scene.objects[o].name] = MatrixJson(frame.ahat_from_objects[o]);

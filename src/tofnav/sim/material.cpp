@@ -113,6 +113,12 @@ Material DiffuseMaterial(double albedo) {
   return m;
 }
 
+Material DrapeMaterial() {
+  Material m = DiffuseMaterial(0.5);
+  m.name = "drape";
+  return m;
+}
+
 double RetroRangeBiasMm(RetroCurve curve, double amplitude_mm, double range_mm) {
   const double scale = amplitude_mm / kCurveSpanMm;
   const double d = std::clamp(range_mm, kCurveStartMm, kCurveEndMm);

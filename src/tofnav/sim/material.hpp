@@ -55,6 +55,9 @@ Material PcAbsMaterial();
 Material RetroReflectiveMaterial(RetroCurve curve = RetroCurve::kLinear);
 /// A plain Lambertian surface with no systematic bias (walls, tables, test boards).
 Material DiffuseMaterial(double albedo);
+/// A surgical drape (non-woven cloth): Lambertian, rho 0.5 at 850 nm (an assumption: drape dyes
+/// absorb in the visible, not in the near infrared), no systematic bias.
+Material DrapeMaterial();
 
 /// f_rf(d) [mm] of the given shape and amplitude at range `range_mm`.
 double RetroRangeBiasMm(RetroCurve curve, double amplitude_mm, double range_mm);

@@ -94,6 +94,20 @@ Rigid3d PivotPose(const Rigid3d& start, const PivotMotion& m, double t_s) {
   return start * Rigid3d(swing, Eigen::Vector3d::Zero());
 }
 
+// Linear translation and slerp between the keyframes around `slot`; held before and after.
+Rigid3d KeyframePose(const std::vector<Keyframe>& keyframes, std::int64_t slot) {
+  Require(!keyframes.empty(), "MotionPose: no keyframes");
+  if (slot <= keyframes.front().slot) return keyframes.front().pose;
+  if (slot >= keyframes.back().slot) return keyframes.back().pose;
+  const auto next = std::upper_bound(keyframes.begin(), keyframes.end(), slot,
+                                     [](std::int64_t s, const Keyframe& k) { return s < k.slot; });
+  const Keyframe& b = *next;
+  const Keyframe& a = *(next - 1);
+  const double f = static_cast<double>(slot - a.slot) / static_cast<double>(b.slot - a.slot);
+  return {a.pose.rotation.slerp(f, b.pose.rotation),
+          (1.0 - f) * a.pose.translation + f * b.pose.translation};
+}
+
 }  // namespace
 
 void Motion::Check() const {
@@ -149,6 +163,17 @@ void Motion::Check() const {
       Require(!segments.empty(), "Motion: a sequence needs at least one segment");
       for (const Motion& segment : segments) segment.Check();
       break;
+    case MotionKind::kKeyframes:
+      Require(!keyframes.empty(), "Motion: keyframes need at least one keyframe");
+      for (std::size_t i = 0; i < keyframes.size(); ++i) {
+        const Keyframe& k = keyframes[i];
+        Require(k.slot >= 0, "Motion.keyframes: slots must be >= 0");
+        Require(i == 0 || k.slot > keyframes[i - 1].slot,
+                "Motion.keyframes: slots must be strictly increasing");
+        Require(k.pose.translation.allFinite() && k.pose.rotation.coeffs().allFinite(),
+                "Motion.keyframes: poses must be finite");
+      }
+      break;
   }
 }
 
@@ -171,6 +196,13 @@ Motion SequenceMotion(std::vector<Motion> segments) {
   Motion motion;
   motion.kind = MotionKind::kSequence;
   motion.segments = std::move(segments);
+  return motion;
+}
+
+Motion KeyframeMotion(std::vector<Keyframe> keyframes) {
+  Motion motion;
+  motion.kind = MotionKind::kKeyframes;
+  motion.keyframes = std::move(keyframes);
   return motion;
 }
 
@@ -213,9 +245,27 @@ Rigid3d MotionPose(const Motion& motion, std::int64_t slot, double rate_hz, std:
       }
       break;
     }
+    case MotionKind::kKeyframes:
+      return KeyframePose(motion.keyframes, slot);
   }
   Require(false, "MotionPose: empty sequence");
   return {};
+}
+
+std::vector<std::int64_t> MotionKeySlots(const Motion& motion) {
+  std::vector<std::int64_t> slots = {0};
+  if (motion.kind == MotionKind::kKeyframes) {
+    for (const Keyframe& k : motion.keyframes) slots.push_back(k.slot);
+  } else if (motion.kind == MotionKind::kSequence) {
+    std::int64_t begin = 0;
+    for (const Motion& segment : motion.segments) {
+      for (const std::int64_t s : MotionKeySlots(segment)) slots.push_back(begin + s);
+      begin += segment.segment_slots;
+    }
+  }
+  std::sort(slots.begin(), slots.end());
+  slots.erase(std::unique(slots.begin(), slots.end()), slots.end());
+  return slots;
 }
 
 std::int64_t MotionSlots(const Motion& motion) {

@@ -12,12 +12,13 @@
 namespace tofnav::sim {
 
 enum class MotionKind {
-  kStatic,    // world_from_mount = start
-  kLinear,    // a linear stage: start translated along a direction at constant speed
-  kRotation,  // a rotation platform: start turned about an axis at constant angular speed
-  kHeadWorn,  // an HMD wearer wandering around a target, looking at it
-  kSequence,  // segments one after the other, each for a number of frame slots
-  kPivot,     // an instrument swung about its tip resting in a divot (pivot calibration)
+  kStatic,     // world_from_mount = start
+  kLinear,     // a linear stage: start translated along a direction at constant speed
+  kRotation,   // a rotation platform: start turned about an axis at constant angular speed
+  kHeadWorn,   // an HMD wearer wandering around a target, looking at it
+  kSequence,   // segments one after the other, each for a number of frame slots
+  kPivot,      // an instrument swung about its tip resting in a divot (pivot calibration)
+  kKeyframes,  // poses at given slots, interpolated (linear translation, slerp rotation)
 };
 
 /// Constant-speed travel along `direction_in_world` from the start pose.
@@ -69,6 +70,12 @@ struct PivotMotion {
   double spin_rad = 0.3;
 };
 
+/// A pose of a keyframed motion at frame slot `slot` (counted from the motion's own start).
+struct Keyframe {
+  std::int64_t slot = 0;
+  Rigid3d pose;  // world_from_mount
+};
+
 /// A frame's motion. The pose it gives is world_from_mount (for a camera: world_from_ahat).
 struct Motion {
   MotionKind kind = MotionKind::kStatic;
@@ -80,6 +87,10 @@ struct Motion {
   /// kSequence: played in order; each segment's own time starts at 0 when it begins. After the
   /// last segment the last one keeps running.
   std::vector<Motion> segments;
+  /// kKeyframes: slots strictly increasing. Before the first keyframe the motion holds its pose,
+  /// after the last it holds the last; two keyframes one slot apart make a jump (e.g. from a
+  /// parking pose out of view to where an occluder enters).
+  std::vector<Keyframe> keyframes;
   /// Length of this motion when it is a segment of a sequence [frame slots].
   std::int64_t segment_slots = 1;
   /// Throws PreconditionError naming the bad field.
@@ -91,10 +102,15 @@ Motion StaticMotion(const Rigid3d& world_from_mount);
 Motion LinearStageMotion(const Rigid3d& start, const Eigen::Vector3d& direction_in_world,
                          double speed_mm_per_s, double travel_mm);
 Motion SequenceMotion(std::vector<Motion> segments);
+Motion KeyframeMotion(std::vector<Keyframe> keyframes);
 
 /// Pose of the moving frame at frame slot `slot` (time slot / rate_hz). `seed` drives the
 /// head-worn wander (and is passed on to segments); the same inputs give the same pose.
 Rigid3d MotionPose(const Motion& motion, std::int64_t slot, double rate_hz, std::uint64_t seed);
+
+/// Slots at which the motion changes course, from its own start: 0, the start of every sequence
+/// segment and every keyframe (sorted, unique). The places to check a scene's geometry.
+std::vector<std::int64_t> MotionKeySlots(const Motion& motion);
 
 /// Frame slots a sequence lasts (sum of its segments); 0 for other kinds (no natural end).
 std::int64_t MotionSlots(const Motion& motion);

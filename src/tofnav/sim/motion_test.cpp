@@ -194,6 +194,25 @@ TEST(MotionPose, PivotKeepsTheTipAndSweepsTheCone) {
   EXPECT_THROW(motion.Check(), PreconditionError);
 }
 
+TEST(MotionPose, KeyframesInterpolateHoldAndNestInSequences) {
+  const Rigid3d a(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.0, 0.0, 100.0));
+  const Rigid3d b(Eigen::Quaterniond(Eigen::AngleAxisd(0.8, Eigen::Vector3d::UnitY())),
+                  Eigen::Vector3d(40.0, 0.0, 300.0));
+  const Motion keyed = KeyframeMotion({{10, a}, {30, b}});
+  EXPECT_THAT(MotionPose(keyed, 0, kRateHz, 0), RigidNear(a, 0.0, 0.0));   // held before
+  EXPECT_THAT(MotionPose(keyed, 99, kRateHz, 0), RigidNear(b, 0.0, 0.0));  // and after
+  const Rigid3d middle(Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitY())),
+                       Eigen::Vector3d(20.0, 0.0, 200.0));
+  EXPECT_THAT(MotionPose(keyed, 20, kRateHz, 0), RigidNear(middle, 1e-9, 1e-9));
+  Motion first = StaticMotion(Rigid3d());
+  first.segment_slots = 5;
+  const Motion sequence = SequenceMotion({first, keyed});
+  EXPECT_THAT(MotionPose(sequence, 25, kRateHz, 0), RigidNear(middle, 1e-9, 1e-9));
+  EXPECT_EQ(MotionKeySlots(sequence), (std::vector<std::int64_t>{0, 5, 15, 35}));
+  EXPECT_THROW(KeyframeMotion({{3, a}, {3, b}}).Check(), PreconditionError);
+  EXPECT_THROW(KeyframeMotion({}).Check(), PreconditionError);
+}
+
 TEST(Motion, CheckNamesTheBadField) {
   Motion motion = LinearStageMotion(Rigid3d(), Eigen::Vector3d::Zero(), 1.0, 1.0);
   EXPECT_THROW(motion.Check(), PreconditionError);

@@ -3,8 +3,10 @@
 #include "tofnav/sim/patient.hpp"
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <utility>
 
 #include "tofnav/core/require.hpp"
@@ -66,17 +68,48 @@ Eigen::Vector3d HeadDirection(double azimuth_rad, double elevation_rad) {
           -std::cos(azimuth_rad) * std::cos(elevation_rad), std::sin(elevation_rad)};
 }
 
+namespace {
+
+// How far the skin rises above the plane through `point` with unit `normal` over a disc of
+// `radius_mm` there (probed at its rim and half radius from 30 mm above): 0 on a smooth convex
+// skin, millimetres on a rough one (a CT's wrinkles and brows), where a flat sticker must be
+// lifted that far or its rim sinks into the skin.
+double SkinRiseOverDisc(const TriangleMesh& skin, const Eigen::Vector3d& point,
+                        const Eigen::Vector3d& normal, double radius_mm) {
+  constexpr double kAboveMm = 30.0;
+  constexpr int kRimProbes = 16;
+  const Eigen::Vector3d side = normal.unitOrthogonal(), up = normal.cross(side);
+  double rise = 0.0;
+  for (const double fraction : {0.5, 1.0}) {
+    for (int k = 0; k < kRimProbes; ++k) {
+      const double a = 2.0 * std::numbers::pi * k / kRimProbes;
+      const Eigen::Vector3d above = point +
+                                    fraction * radius_mm * (std::cos(a) * side + std::sin(a) * up) +
+                                    kAboveMm * normal;
+      const std::optional<MeshHit> hit = IntersectMesh(skin, above, -normal);
+      if (hit) rise = std::max(rise, kAboveMm - hit->distance_mm);
+    }
+  }
+  return rise;
+}
+
+}  // namespace
+
 Tool SkinStickers(std::string name, const PatientHead& head,
                   const std::vector<Eigen::Vector3d>& directions_in_image, double diameter_mm,
                   int material) {
   constexpr double kHeadRadiusMm = 90.0;  // curvature radius for the sag of a flat disc
-  const double offset_mm = 0.1 + 0.25 * diameter_mm * diameter_mm / (2.0 * kHeadRadiusMm);
+  // 0.1 mm over the skin (not coplanar with it), plus a quarter of the sag on a 90 mm head; on a
+  // rough skin at least as far as it rises over the footprint (the rim may touch it there).
+  const double sag_offset_mm = 0.1 + 0.25 * diameter_mm * diameter_mm / (2.0 * kHeadRadiusMm);
   Tool tool;
   tool.name = std::move(name);
   for (const Eigen::Vector3d& direction : directions_in_image) {
     const MeshHit hit = head.Probe().RequireHit(direction, "a sticker");
-    tool.markers.push_back(
-        DiscMarkerOnSurface(hit.point, hit.normal, diameter_mm, material, offset_mm));
+    const double rise_mm =
+        SkinRiseOverDisc(head.skin_in_image, hit.point, hit.normal.normalized(), 0.5 * diameter_mm);
+    tool.markers.push_back(DiscMarkerOnSurface(hit.point, hit.normal, diameter_mm, material,
+                                               std::max(sag_offset_mm, rise_mm)));
   }
   return tool;
 }

@@ -48,8 +48,9 @@ int AddPatient(Scenario& scenario, const PatientHead& head, int material, int mo
 Eigen::Vector3d HeadDirection(double azimuth_rad, double elevation_rad);
 
 /// A tool of flat retro-reflective discs stuck on the skin where rays from the anatomy centre
-/// along `directions_in_image` leave it; tool frame = image frame. Add it on the patient's mount
-/// with mount_from_tool = mount_from_image.
+/// along `directions_in_image` leave it, lifted by their sag on a 90 mm head or, on a rough skin,
+/// as far as the skin rises over their footprint (so no rim sinks in); tool frame = image frame.
+/// Add it on the patient's mount with mount_from_tool = mount_from_image.
 Tool SkinStickers(std::string name, const PatientHead& head,
                   const std::vector<Eigen::Vector3d>& directions_in_image, double diameter_mm,
                   int material);

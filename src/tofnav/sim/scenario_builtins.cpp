@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/sim/evd_occluders.hpp"
 #include "tofnav/sim/patient.hpp"
 #include "tofnav/sim/scenario_pivot.hpp"
 #include "tofnav/sim/shapes.hpp"
@@ -301,7 +302,9 @@ Scenario EvdUseCase(const PatientHead* given_head) {
   s.name = "evd-usecase";
   s.description =
       "Nylon head phantom on a headframe with two reference tools, three 10 mm forehead markers "
-      "and nine planned trajectories; a wandering headset at 300-700 mm, 2000 frames (Sec. V)";
+      "and nine planned trajectories, a drape around the head, a hand and a tracked instrument "
+      "passing over the forehead and the tools; a wandering headset at 300-700 mm, 2000 frames "
+      "(Sec. V)";
   const int retro = s.scene.AddMaterial(RetroReflectiveMaterial(RetroCurve::kLinear));
   const int nylon = s.scene.AddMaterial(NylonMaterial());
   const int acrylic = s.scene.AddMaterial(Named(DiffuseMaterial(0.45), "acrylic_plate"));
@@ -322,6 +325,7 @@ Scenario EvdUseCase(const PatientHead* given_head) {
                             HeadDirection(0.04, 0.74)},
                            10.0, retro),
               headframe);
+  AddEvdOccluders(s, head, headframe, retro);  // drape, hand, instrument (evd_occluders.hpp)
   s.camera.motion = Wearer(WorldFromUprightImage(centre) * Eigen::Vector3d(0.0, -40.0, 50.0), 8.0);
   s.camera.motion.head_worn.azimuth_span_rad = 1.8;
   s.camera.motion.head_worn.max_elevation_rad = 0.9;

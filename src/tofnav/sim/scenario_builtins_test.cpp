@@ -86,7 +86,7 @@ TEST(BuiltinScenario, EvdUseCaseHasTheHeadframeToolsStickersAndPlan) {
   EXPECT_EQ(s.camera.motion.kind, MotionKind::kHeadWorn);
   // The stickers lie on the skin (within their lift and a facet's sag).
   const TriangleMesh& skin = s.scene.objects[static_cast<std::size_t>(s.patient->object)].mesh;
-  const sim::Tool& stickers = s.scene.tools[static_cast<std::size_t>(s.tool_mounts.size()) - 1];
+  const sim::Tool& stickers = s.scene.tools[2];  // after the two references
   ASSERT_EQ(stickers.name, "forehead_markers");
   ASSERT_EQ(stickers.markers.size(), 3u);
   for (const Marker& m : stickers.markers) {

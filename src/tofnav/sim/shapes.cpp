@@ -128,6 +128,49 @@ TriangleMesh SphereMesh(double radius_mm, int segments) {
   return mesh;
 }
 
+TriangleMesh CapsuleMesh(double diameter_mm, double length_mm, int segments) {
+  Require(diameter_mm > 0.0 && length_mm >= diameter_mm,
+          "CapsuleMesh: need 0 < diameter_mm <= length_mm");
+  Require(segments >= 8 && segments % 2 == 0, "CapsuleMesh: segments must be even and >= 8");
+  const double radius = 0.5 * diameter_mm, half_cylinder = 0.5 * (length_mm - diameter_mm);
+  const int quarter = segments / 4;  // rings per hemisphere
+  TriangleMesh mesh;
+  // Built along z, then (a, b, c) -> (c, a, b): a cyclic permutation, so a rotation.
+  const auto add = [&](const Eigen::Vector3d& n, double shift) {
+    const Eigen::Vector3d p = radius * n + Eigen::Vector3d(0.0, 0.0, shift);
+    mesh.vertices.emplace_back(p.z(), p.x(), p.y());
+    mesh.vertex_normals.emplace_back(n.z(), n.x(), n.y());
+  };
+  add(Eigen::Vector3d::UnitZ(), half_cylinder);
+  // Rings 1..quarter on the +z cap down to its equator, then quarter..2 quarter - 1 on the -z cap.
+  const int rings = 2 * quarter;
+  for (int k = 1; k <= rings; ++k) {
+    const int i = k <= quarter ? k : k - 1;
+    const double polar = 0.5 * std::numbers::pi * i / quarter;
+    for (int j = 0; j < segments; ++j) {
+      const double azimuth = 2.0 * std::numbers::pi * j / segments;
+      add({std::sin(polar) * std::cos(azimuth), std::sin(polar) * std::sin(azimuth),
+           std::cos(polar)},
+          k <= quarter ? half_cylinder : -half_cylinder);
+    }
+  }
+  add(-Eigen::Vector3d::UnitZ(), -half_cylinder);
+  const int south = static_cast<int>(mesh.vertices.size()) - 1;
+  const auto ring = [&](int k, int j) { return 1 + (k - 1) * segments + j % segments; };
+  for (int j = 0; j < segments; ++j) {
+    mesh.triangles.emplace_back(0, ring(1, j), ring(1, j + 1));
+    mesh.triangles.emplace_back(south, ring(rings, j + 1), ring(rings, j));
+  }
+  for (int k = 1; k < rings; ++k) {
+    for (int j = 0; j < segments; ++j) {
+      const int a = ring(k, j), b = ring(k + 1, j), c = ring(k + 1, j + 1), d = ring(k, j + 1);
+      mesh.triangles.emplace_back(a, b, c);
+      mesh.triangles.emplace_back(a, c, d);
+    }
+  }
+  return mesh;
+}
+
 TriangleMesh TestShapeMesh(TestShape shape, double size_mm) {
   Require(size_mm > 0.0, "TestShapeMesh: size must be positive");
   const double s = size_mm;

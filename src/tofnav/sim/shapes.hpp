@@ -16,6 +16,9 @@ TriangleMesh BoxMesh(const Eigen::Vector3d& size_mm);
 /// Closed latitude-longitude sphere centred on the origin with exact vertex normals.
 /// `segments` around the equator (>= 8); the chord sag is radius * (1 - cos(pi / segments)).
 TriangleMesh SphereMesh(double radius_mm, int segments = 96);
+/// Closed capsule (a cylinder with hemispherical ends) along x, centred on the origin, with exact
+/// vertex normals: `length_mm` end to end (>= the diameter), `segments` around (even, >= 8).
+TriangleMesh CapsuleMesh(double diameter_mm, double length_mm, int segments = 32);
 
 /// The paper's 3D-printed test shapes (Sec. IV-A), standing on z = 0 and extending along +z.
 enum class TestShape {

@@ -2,6 +2,7 @@
 // The frame loop of a scenario.
 #include "tofnav/sim/simulator.hpp"
 
+#include <cmath>
 #include <utility>
 
 #include "tofnav/core/require.hpp"
@@ -108,7 +109,31 @@ SimulatedFrame Simulator::Next() {
   for (const MarkerTruth& marker : out.render.markers) {
     out.marker_pixels.push_back(camera().Project(marker.centre_in_ahat));
   }
+  out.marker_occluders = MarkerOccluders(scene_, out);
   return out;
 }
 
+std::vector<MarkerOccluder> MarkerOccluders(const Scene& scene, const SimulatedFrame& frame) {
+  constexpr double kMarginMm = 1.0;  // a marker's own plate or skin lies within 0.1-0.5 mm
+  const RenderResult& r = frame.render;
+  std::vector<MarkerOccluder> occluders(r.markers.size());
+  for (std::size_t m = 0; m < r.markers.size(); ++m) {
+    const std::optional<Eigen::Vector2d>& uv = frame.marker_pixels[m];
+    if (!uv) continue;
+    const int u = static_cast<int>(std::lround(uv->x())),
+              v = static_cast<int>(std::lround(uv->y()));
+    if (!r.truth_range_mm.Contains(u, v) || r.truth_range_mm(u, v) <= 0.0f) continue;
+    const MarkerTruth& marker = r.markers[m];
+    const double radius_mm = 0.5 * scene.tools[static_cast<std::size_t>(marker.tool)]
+                                       .markers[static_cast<std::size_t>(marker.marker)]
+                                       .diameter_mm;
+    if (r.truth_range_mm(u, v) >= marker.centre_in_ahat.norm() - radius_mm - kMarginMm) continue;
+    if (r.truth_object(u, v) >= 0) {
+      occluders[m].object = r.truth_object(u, v);
+    } else if (const int id = r.truth_marker(u, v); id >= 0) {
+      occluders[m].tool = r.markers[static_cast<std::size_t>(id)].tool;
+    }
+  }
+  return occluders;
+}
 }  // namespace tofnav::sim

@@ -17,6 +17,13 @@
 
 namespace tofnav::sim {
 
+/// What hides a marker's centre from the camera: a scene object or another tool's marker.
+struct MarkerOccluder {
+  int object = -1;  // index into Scene::objects
+  int tool = -1;    // index into Scene::tools (a marker of it)
+  bool hidden() const { return object >= 0 || tool >= 0; }
+};
+
 /// One simulated frame and its ground truth.
 struct SimulatedFrame {
   std::int64_t index = 0;  // frame number in the output
@@ -28,7 +35,13 @@ struct SimulatedFrame {
   std::vector<Rigid3d> ahat_from_objects;  // per scene object
   /// Per render.markers entry: where its centre projects (our pixel coordinates), if it does.
   std::vector<std::optional<Eigen::Vector2d>> marker_pixels;
+  /// Per render.markers entry: what hides its centre (the first hit of the pixel it projects into
+  /// lies more than a marker radius + 1 mm in front of it), if anything.
+  std::vector<MarkerOccluder> marker_occluders;
 };
+
+/// What hides each marker of `frame` (SimulatedFrame::marker_occluders).
+std::vector<MarkerOccluder> MarkerOccluders(const Scene& scene, const SimulatedFrame& frame);
 
 /// World poses at frame slot `slot` of every mount of `scenario` (index order), with the seeds
 /// the Simulator uses.

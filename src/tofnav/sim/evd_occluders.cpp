@@ -1,0 +1,123 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// evd-usecase's drape, hand and instrument. Poses are built in the headframe mount (`image` at
+// the anatomy centre: +x the patient's left, +y posterior, +z superior), then put in the world.
+#include "tofnav/sim/evd_occluders.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "tofnav/core/require.hpp"
+#include "tofnav/sim/head_phantom.hpp"
+#include "tofnav/sim/occluders.hpp"
+
+namespace tofnav::sim {
+namespace {
+
+constexpr std::int64_t kMoveSlots = 10;    // about 0.2 s in, 0.2 s out (0.5-1.5 m/s)
+constexpr double kHandOverSkinMm = 70.0;   // hand axis above the forehead
+constexpr double kHandOverToolMm = 35.0;   // the palm's axis over reference_right's plate
+constexpr double kArrayOverToolMm = 25.0;  // the instrument's marker plane over reference_left's
+constexpr double kDrapeOverNeckMm = 15.0;
+constexpr double kDrapeClearanceMm = 22.0;  // opening beyond the cranium's cross-section
+
+// A frame whose x axis is `x_axis` (the hand's forearm-to-fingers direction).
+Eigen::Quaterniond AlongX(const Eigen::Vector3d& x_axis) {
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), x_axis.normalized());
+}
+
+const Tool& NamedTool(const Scenario& s, const char* name) {
+  for (const Tool& t : s.scene.tools) {
+    if (t.name == name) return t;
+  }
+  Require(false, std::string("AddEvdOccluders: no tool '") + name + "'");
+  return s.scene.tools.front();
+}
+
+// `v` without its component along unit `n`, normalised.
+Eigen::Vector3d Across(const Eigen::Vector3d& v, const Eigen::Vector3d& n) {
+  return (v - v.dot(n) * n).normalized();
+}
+
+}  // namespace
+
+void AddEvdOccluders(Scenario& s, const PatientHead& head, int headframe, int retro) {
+  const Rigid3d world_from_mount = s.mounts[static_cast<std::size_t>(headframe)].motion.start;
+  const auto world = [&](const Rigid3d& mount_from_x) { return world_from_mount * mount_from_x; };
+  const auto world_shift = [&](const Eigen::Vector3d& v) { return world_from_mount.rotation * v; };
+  const Eigen::Vector3d& semi = head.anatomy.semi_axes_mm;
+
+  // Drape: 15 mm above the neck cut, an opening 22 mm beyond the cranium's cross-section there.
+  const double drape_z = -HeadPhantomOptions{}.neck_cut_fraction * semi.z() + kDrapeOverNeckMm;
+  const double shrink = std::sqrt(std::max(0.0, 1.0 - (drape_z / semi.z()) * (drape_z / semi.z())));
+  DrapeOptions drape;
+  drape.opening_semi_axes_mm =
+      shrink * semi.head<2>() + Eigen::Vector2d::Constant(kDrapeClearanceMm);
+  const int cloth = s.scene.AddMaterial(DrapeMaterial());
+  s.AddObject("drape", DrapeMesh(drape), cloth, headframe,
+              {Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.0, 0.0, drape_z)});
+
+  // Hand: over the forehead from the patient's right, then over reference_right along its plate.
+  const MeshHit forehead = head.Probe().RequireHit(HeadDirection(0.0, 0.55), "the forehead");
+  const Eigen::Vector3d over_forehead =
+      forehead.point - head.anatomy.centre_in_image + kHandOverSkinMm * forehead.normal;
+  const HandOptions hand_options;
+  const double hand_middle_mm = 0.5 * (hand_options.hand_length_mm - hand_options.hand_diameter_mm);
+  Pass forehead_pass;
+  forehead_pass.enter_slot = kEvdHandForeheadSlot;
+  forehead_pass.move_slots = kMoveSlots;
+  forehead_pass.hover_slots = 20;
+  forehead_pass.hover = world({AlongX(Eigen::Vector3d::UnitX()),
+                               over_forehead - Eigen::Vector3d(hand_middle_mm, 0.0, 0.0)});
+  forehead_pass.approach_mm = world_shift({-300.0, 0.0, 0.0});
+  forehead_pass.leave_mm = world_shift({-300.0, 0.0, 60.0});
+
+  const Rigid3d& right = NamedTool(s, "reference_right").scene_from_tool;
+  const Eigen::Vector3d right_normal = right.rotation * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d hand_axis = Across(-Eigen::Vector3d::UnitY(), right_normal);  // to the face
+  Pass reference_pass;
+  reference_pass.enter_slot = kEvdHandReferenceSlot;
+  reference_pass.move_slots = kMoveSlots;
+  reference_pass.hover_slots = 14;
+  reference_pass.hover =
+      world({AlongX(hand_axis),
+             right.translation + kHandOverToolMm * right_normal - hand_middle_mm * hand_axis});
+  reference_pass.approach_mm = world_shift(-250.0 * hand_axis);
+  reference_pass.leave_mm = world_shift(-250.0 * hand_axis + Eigen::Vector3d(0.0, 0.0, 60.0));
+
+  // Parked behind the wandering headset (on the +z side of the world, looking at -z), far up.
+  const Rigid3d parked(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.0, 2500.0, 2500.0));
+  const int skin = s.scene.AddMaterial(SkinMaterial());
+  AddHand(s, "hand", hand_options, skin, PassesMotion(parked, {forehead_pass, reference_pass}));
+
+  // Instrument: its array over reference_left, the rod pointing at the head across the plate.
+  const Rigid3d& left = NamedTool(s, "reference_left").scene_from_tool;
+  const Eigen::Vector3d left_normal = left.rotation * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d rod = Across(-left.translation, left_normal);  // towards the head
+  const Eigen::Vector3d y_axis = -rod, x_axis = y_axis.cross(left_normal);
+  Eigen::Matrix3d tool_axes;
+  tool_axes << x_axis, y_axis, left_normal;
+  const InstrumentOptions instrument;
+  const Eigen::Vector3d tip = InstrumentTipInTool(instrument);
+  const Eigen::Vector3d array_centre_in_tool(tip.x(), tip.y() + instrument.rod_length_mm, 0.0);
+  const Eigen::Vector3d hover_centre = left.translation + kArrayOverToolMm * left_normal;
+  Pass instrument_pass;
+  instrument_pass.enter_slot = kEvdInstrumentSlot;
+  instrument_pass.move_slots = kMoveSlots;
+  instrument_pass.hover_slots = 18;
+  instrument_pass.hover =
+      world({Eigen::Quaterniond(tool_axes), hover_centre - tool_axes * array_centre_in_tool});
+  instrument_pass.approach_mm = world_shift({250.0, 0.0, 150.0});  // from the left, above
+  instrument_pass.leave_mm = instrument_pass.approach_mm;
+  const int rod_material = s.scene.AddMaterial([] {
+    Material m = DiffuseMaterial(0.3);  // a matt, anodised rod
+    m.name = "instrument_rod";
+    return m;
+  }());
+  const Rigid3d parked_apart(parked.rotation, parked.translation + Eigen::Vector3d(1000.0, 0, 0));
+  AddInstrument(s, "instrument", instrument, retro, rod_material,
+                PassesMotion(parked_apart, {instrument_pass}));
+}
+
+}  // namespace tofnav::sim
