@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
-# tofnav evaluate suite on the one-case smoke suite (spheres on posts, a pillow, a perturbed
-# device, multipath): one JSON object on stdout equal to suite.json, suite.html written, the row's
+# tofnav evaluate suite on the one-case smoke suite (spheres on posts, the drape removed, a
+# perturbed device, multipath): one JSON object on stdout equal to suite.json, suite.html written, the row's
 # figures present and within tolerances loose enough for the short run; bad suite files refused
 # with the file and JSON path. Usage: suite_cli_test.sh TOFNAV
 set -euo pipefail
@@ -18,9 +18,9 @@ assert out["format"] == "tofnav-suite-result" and len(out["rows"]) == 1
 row = out["rows"][0]
 assert row["ok"] or row["error"].startswith("registration: registration refused"), row["error"]
 html = open(os.path.join(d, "suite.html")).read()
-assert "phantom-spheres-pillow-device" in html and "<script" not in html
+assert "phantom-spheres-bare-device" in html and "<script" not in html
 # The case rendered through its own device: the session's calibration is the perturbed one.
-case = os.path.join(d, "phantom-spheres-pillow-device")
+case = os.path.join(d, "phantom-spheres-bare-device")
 for f in ["uv2xy.bin", "extrinsics.bin"]:
     a = open(os.path.join(case, "device_1", "rm_depth_ahat", f), "rb").read()
     b = open(os.path.join(case, "session", "calibration", "rm_depth_ahat", f), "rb").read()
@@ -28,9 +28,10 @@ for f in ["uv2xy.bin", "extrinsics.bin"]:
 # Sanity bounds for 60 session frames of a hard case (the suite's lines are in docs/suite.md
 # and this case misses several today: issue 16). A wrong transform, frame or evaluation gives
 # centimetres or nothing; these catch that, not the accuracy:
-TRACKING_MM = 1.0        # sphere tools, filtered RMS (0.18 mm measured; line 0.3 mm)
-RECONSTRUCTION_MM = 5.0  # head median (1.7 mm measured; line 0.4 mm)
-ENTRY_MM = 10.0          # guidance entry median (5.7 mm measured; line 1.2 mm)
+TRACKING_MM = 1.0        # sphere tools, filtered RMS (line 0.3 mm)
+RECONSTRUCTION_MM = 5.0  # head median (line 0.4 mm)
+ENTRY_MM = 20.0          # guidance entry median (line 1.2 mm; a refused registration of the
+                         # operating-room session was measured at 105 mm)
 for key, limit in [("tracking_mm", TRACKING_MM), ("reconstruction_mm", RECONSTRUCTION_MM),
                    ("entry_mm", ENTRY_MM)]:
     assert row[key] is not None and 0.0 < row[key] <= limit, (key, row[key])
