@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Internal to scenario_json*.cpp and truth_json.cpp: strict JSON field reading and the encoders
-// that share their key names.
+// Internal to scenario_json*.cpp, truth_json.cpp and the suite file reader (apps/cli): strict
+// JSON field reading and the encoders that share their key names.
 #pragma once
 
 #include <Eigen/Core>
