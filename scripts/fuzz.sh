@@ -1,14 +1,13 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
-# Builds the libFuzzer targets with clang + ASan/UBSan and runs each for N seconds (default 60)
-# on a fresh corpus seeded from the unit-test writers. Usage: scripts/fuzz.sh [seconds]
+# Builds the libFuzzer targets (scripts/build_sanitize.sh: clang + ASan/UBSan) and runs each
+# for N seconds (default 60) on a fresh corpus seeded from the unit-test writers. Usage: scripts/fuzz.sh [seconds]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:-60}
 scripts/setup.sh
-CC=clang-14 CXX=clang++-14 scripts/build.sh fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-  -DTOFNAV_BUILD_FUZZ=ON -DTOFNAV_SANITIZE=ON -DTOFNAV_BUILD_TESTS=OFF
-for target in build/fuzz/fuzz/*_fuzz; do
+scripts/build_sanitize.sh  # nothing to do after scripts/test.sh, which built the same tree
+for target in build/sanitize/fuzz/*_fuzz; do
   name=$(basename "$target")
   corpus=$(mktemp -d "/tmp/tofnav_${name}_XXXX")
   echo "== $name for ${seconds}s =="

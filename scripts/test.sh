@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
-# The whole test suite: set-up, format check, -Werror build + ctest, ASan+UBSan build + ctest,
-# layer and file-size checks. The end-to-end runs (label slow) run in the optimised pass only.
+# The whole test suite: set-up, format check, layer and file-size checks, -Werror build + ctest,
+# then the clang ASan+UBSan build (shared with the fuzzers) + ctest. The end-to-end runs (label
+# slow) run in the optimised pass only. Each phase prints its duration.
 # Usage: scripts/test.sh [--quick]  (--quick: skip the sanitizer pass)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -14,14 +15,25 @@ echo "== layer and size checks =="
 .ci/check_layers.sh
 .ci/check_sizes.sh
 
-echo "== -Werror build + ctest =="
+phase_start=$(date +%s)
+phase() {  # prints how long the previous phase took, then the next phase's title
+  local now
+  now=$(date +%s)
+  echo "== (previous phase: $((now - phase_start)) s) $* =="
+  phase_start=$now
+}
+
+phase "-Werror build"
 scripts/build.sh werror -DCMAKE_BUILD_TYPE=Release -DTOFNAV_WERROR=ON -DTOFNAV_BUILD_BENCH=ON
-ctest --test-dir build/werror --output-on-failure -j2
+phase "-Werror ctest"
+ctest --test-dir build/werror --output-on-failure -j2 --timeout 900
 
 if [ "${1:-}" != "--quick" ]; then
-  echo "== AddressSanitizer + UndefinedBehaviorSanitizer build + ctest =="
-  scripts/build.sh asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DTOFNAV_WERROR=ON -DTOFNAV_SANITIZE=ON
+  phase "AddressSanitizer + UndefinedBehaviorSanitizer build (clang, shared with the fuzzers)"
+  scripts/build_sanitize.sh
+  phase "AddressSanitizer + UndefinedBehaviorSanitizer ctest"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-    ctest --test-dir build/asan --output-on-failure -j2 -LE slow
+    ctest --test-dir build/sanitize --output-on-failure -j2 -LE slow --timeout 600
 fi
+phase "done"
 echo "== all tests passed =="

@@ -117,7 +117,9 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
                     {"C4_mm", m.c4_mm},
                     {"costs", m.report.costs},
                     {"frames", m.report.frames_used},
-                    {"markers_rejected", m.report.markers_rejected},
+                    {"frames_left_out", m.report.frames_left_out},
+                    {"marker_observations", m.report.marker_observations},
+                    {"marker_observations_rejected", m.report.marker_observations_rejected},
                     {"seconds", m.report.seconds}};
   stage["depth_model_json"] = "depth_model.json";
 

@@ -19,6 +19,28 @@
 #include "tofnav/io/volume_io.hpp"
 
 namespace tofnav {
+namespace {
+
+// What the identification left out, in words: frames, points and marker observations (a marker
+// in a frame), with the markers that lost observations.
+void PrintLeftOut(const DepthModelFitReport& r) {
+  std::cout << "  frames: " << r.frames_used << " used, " << r.frames_left_out
+            << " left out with a hand or instrument in front of the head; "
+            << r.head_points_left_out << " foreground head points removed\n"
+            << "  markers: " << r.markers.size() << " seen in " << r.marker_observations
+            << " observations; " << r.marker_observations_rejected
+            << " observations left out as not on the skin, " << r.marker_patches_screened_out
+            << " with foreground around them\n";
+  for (std::size_t i = 0; i < r.markers.size(); ++i) {
+    const MarkerUse& m = r.markers[i];
+    if (m.rejected == 0) continue;
+    std::cout << "    marker " << i + 1 << " at (" << m.centre_mm[0] << ", " << m.centre_mm[1]
+              << ", " << m.centre_mm[2] << ") mm: " << m.rejected << " of " << m.observations
+              << " observations left out\n";
+  }
+}
+
+}  // namespace
 
 int RunIdentify(int argc, char** argv) {
   CLI::App app{
@@ -105,22 +127,33 @@ int RunIdentify(int argc, char** argv) {
 
   const DepthErrorModel& m = file.model;
   if (json) {
-    nlohmann::ordered_json out{{"model", m.Name()},
-                               {"c1_mm", m.c1_mm},
-                               {"c2", m.c2},
-                               {"c3_mm", m.c3_mm},
-                               {"c4_mm", m.c4_mm},
-                               {"costs", m.report.costs},
-                               {"frames", m.report.frames_used},
-                               {"markers_rejected", m.report.markers_rejected},
-                               {"initial_cost_mm2", m.report.initial_cost},
-                               {"final_cost_mm2", m.report.final_cost},
-                               {"seconds", m.report.seconds},
-                               {"registration", registration_report},
-                               {"cross_validation", nlohmann::ordered_json::object()},
-                               {"out", out_path.string()}};
+    nlohmann::ordered_json out{
+        {"model", m.Name()},
+        {"c1_mm", m.c1_mm},
+        {"c2", m.c2},
+        {"c3_mm", m.c3_mm},
+        {"c4_mm", m.c4_mm},
+        {"costs", m.report.costs},
+        {"frames", m.report.frames_used},
+        {"frames_left_out", m.report.frames_left_out},
+        {"head_points_left_out", m.report.head_points_left_out},
+        {"marker_observations", m.report.marker_observations},
+        {"marker_observations_rejected", m.report.marker_observations_rejected},
+        {"marker_patches_screened_out", m.report.marker_patches_screened_out},
+        {"markers", nlohmann::ordered_json::array()},
+        {"initial_cost_mm2", m.report.initial_cost},
+        {"final_cost_mm2", m.report.final_cost},
+        {"seconds", m.report.seconds},
+        {"registration", registration_report},
+        {"cross_validation", nlohmann::ordered_json::object()},
+        {"out", out_path.string()}};
     for (const auto& [name, cost] : m.report.cross_validation) {
       out["cross_validation"][name] = cost;
+    }
+    for (const MarkerUse& use : m.report.markers) {
+      out["markers"].push_back({{"centre_mm", use.centre_mm},
+                                {"observations", use.observations},
+                                {"rejected", use.rejected}});
     }
     std::cout << out.dump(2) << "\n";
     return EXIT_SUCCESS;
@@ -129,8 +162,8 @@ int RunIdentify(int argc, char** argv) {
             << " frames, " << m.report.seconds << " s)\n"
             << "  C1 = " << m.c1_mm << " mm, C2 = " << m.c2 << ", C3 = " << m.c3_mm
             << " mm/unit, C4 = " << m.c4_mm << " mm\n"
-            << "  cost " << m.report.initial_cost << " -> " << m.report.final_cost << " mm^2, "
-            << m.report.markers_rejected << " markers left out as not on the skin\n";
+            << "  cost " << m.report.initial_cost << " -> " << m.report.final_cost << " mm^2\n";
+  PrintLeftOut(m.report);
   for (const auto& [name, cost] : m.report.cross_validation) {
     std::cout << "  held-out Err_S^2 " << name << ": " << cost << " mm^2\n";
   }

@@ -35,7 +35,9 @@ py::dict FitReportDict(const DepthErrorModel& model) {
   out["method"] = r.method;
   out["costs"] = r.costs;
   out["frames_used"] = r.frames_used;
-  out["markers_rejected"] = r.markers_rejected;
+  out["frames_left_out"] = r.frames_left_out;
+  out["marker_observations"] = r.marker_observations;
+  out["marker_observations_rejected"] = r.marker_observations_rejected;
   out["evaluations"] = r.evaluations;
   out["initial_cost"] = r.initial_cost;
   out["final_cost"] = r.final_cost;

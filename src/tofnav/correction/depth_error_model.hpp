@@ -2,6 +2,7 @@
 // The surface depth-error model (Eq. 3) with its variants, and its inverse, Eq. (4).
 #pragma once
 
+#include <array>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -23,12 +24,24 @@ struct FrameResidual {
   int markers = 0;         // markers contributing to Err_S
 };
 
+/// One physical marker (a sticker) across the identification's frames.
+struct MarkerUse {
+  std::array<double, 3> centre_mm{};  // in `world` (in `ahat` when the frames have no rig pose)
+  int observations = 0;               // frames in which its patch entered the fit
+  int rejected = 0;                   // of those, left out as not on the skin (second fit)
+};
+
 /// What the identification did and how well it fits (written to depth_model.json).
 struct DepthModelFitReport {
-  std::string method;  // e.g. "levenberg-marquardt"
-  std::string costs;   // "correctness+smoothness" or "smoothness"
-  int frames_used = 0;
-  int markers_rejected = 0;  // marker patches left out as not on the skin (second fit)
+  std::string method;            // e.g. "levenberg-marquardt"
+  std::string costs;             // "correctness+smoothness" or "smoothness"
+  int frames_used = 0;           // frames with a head or a marker patch after the screening
+  int frames_left_out = 0;       // screened out whole: foreground (a hand) in front of the head
+  int head_points_left_out = 0;  // foreground points removed from the frames kept
+  int marker_patches_screened_out = 0;   // patches whose surroundings were foreground
+  int marker_observations = 0;           // marker patches (a marker in a frame) in the first fit
+  int marker_observations_rejected = 0;  // of those, left out as not on the skin (second fit)
+  std::vector<MarkerUse> markers;        // per physical marker
   int evaluations = 0;
   double initial_cost = 0.0;  // Eq. (7) at the start [mm^2]
   double final_cost = 0.0;    // Eq. (7) at the solution [mm^2]

@@ -133,10 +133,11 @@ Eigen::VectorXd Flatten(const Evaluation& e) {
 // every other patch's: markers that are not on the skin (a tool's marker on its plate, whose
 // unbiased surroundings the skin model over-corrects by the whole skin bias; a sticker on hair).
 // A bounded (Huber) loss still pulls a little on each of them, always the same way.
+// `rejected[f][k]` says whether patch k of frame f was left out.
 std::vector<IdentificationFrame> WithoutOutlierMarkers(std::span<const IdentificationFrame> frames,
                                                        const DepthErrorModel& model,
                                                        const IdentificationOptions& options,
-                                                       int& rejected) {
+                                                       std::vector<std::vector<char>>& rejected) {
   std::vector<std::vector<double>> per_frame(frames.size());
   ParallelFor(0, static_cast<std::int64_t>(frames.size()), [&](std::int64_t fi) {
     const auto f = static_cast<std::size_t>(fi);
@@ -153,7 +154,8 @@ std::vector<IdentificationFrame> WithoutOutlierMarkers(std::span<const Identific
       if (std::isfinite(m)) all.push_back(m);
     }
   }
-  rejected = 0;
+  rejected.assign(frames.size(), {});
+  for (std::size_t f = 0; f < frames.size(); ++f) rejected[f].assign(frames[f].markers.size(), 0);
   std::vector<IdentificationFrame> out(frames.begin(), frames.end());
   if (all.empty()) return out;
   const auto [centre, spread] = MedianSpread(all);
@@ -168,7 +170,7 @@ std::vector<IdentificationFrame> WithoutOutlierMarkers(std::span<const Identific
         kept.push_back(std::move(patch));
         continue;
       }
-      ++rejected;
+      rejected[f][k] = 1;
       std::erase_if(points, [&](const Eigen::Vector3d& p) {
         return std::find(patch.marker_points.begin(), patch.marker_points.end(), p) !=
                patch.marker_points.end();
@@ -232,6 +234,10 @@ void IdentificationOptions::Check() const {
   for (double s : difference_steps) {
     if (!(s > 0.0)) throw std::invalid_argument("IdentificationOptions: difference_steps > 0");
   }
+  if (!(marker_group_radius_mm > 0.0)) {
+    throw std::invalid_argument("IdentificationOptions: marker_group_radius_mm > 0");
+  }
+  foreground.Check();
   correctness.Check();
   lm.Check();
 }
@@ -253,22 +259,35 @@ DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
   options.Check();
   start.Check();
   const auto t0 = std::chrono::steady_clock::now();
-  int patches = 0;
-  for (const IdentificationFrame& f : frames) patches += static_cast<int>(f.markers.size());
-  if (patches == 0) {
-    throw std::invalid_argument("IdentifyDepthModel: no frame has a marker with head around it");
+  ForegroundScreeningReport screening;
+  const std::vector<IdentificationFrame> screened =
+      ScreenForeground(frames, start, options.foreground, screening);
+  int patches = 0, frames_used = 0;
+  for (const IdentificationFrame& f : screened) {
+    patches += static_cast<int>(f.markers.size());
+    frames_used += f.markers.empty() && f.head.empty() ? 0 : 1;
   }
-  Fit fit = FitOnce(frames, target, start, options);
+  if (patches == 0) {
+    throw std::invalid_argument(
+        screening.marker_patches_left_out > 0
+            ? "IdentifyDepthModel: every marker patch was screened out as foreground"
+            : "IdentifyDepthModel: no frame has a marker with head around it");
+  }
+  Fit fit = FitOnce(screened, target, start, options);
   const double initial_cost = fit.lm.initial_cost;
   int evaluations = fit.lm.evaluations, rejected = 0;
+  std::vector<std::vector<char>> rejected_flags;
   if (options.reject_outlier_markers) {
     const std::vector<IdentificationFrame> kept =
-        WithoutOutlierMarkers(frames, fit.model, options, rejected);
+        WithoutOutlierMarkers(screened, fit.model, options, rejected_flags);
+    for (const auto& v : rejected_flags)
+      rejected += static_cast<int>(std::count(v.begin(), v.end(), 1));
     if (rejected > 0 && rejected < patches) {
       fit = FitOnce(kept, target, fit.model, options);
       evaluations += fit.lm.evaluations;
     } else {
       rejected = 0;  // every marker would go: keep the first fit, rejecting none
+      rejected_flags.clear();
     }
   }
   DepthErrorModel model = fit.model;
@@ -276,8 +295,19 @@ DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
   rep = {};
   rep.method = "levenberg-marquardt";
   rep.costs = fit.correctness ? "correctness+smoothness" : "smoothness";
-  rep.frames_used = static_cast<int>(frames.size());
-  rep.markers_rejected = rejected;
+  rep.frames_used = frames_used;
+  rep.frames_left_out = screening.frames_left_out;
+  rep.head_points_left_out = screening.head_points_left_out;
+  rep.marker_patches_screened_out = screening.marker_patches_left_out;
+  rep.marker_observations = patches;
+  rep.marker_observations_rejected = rejected;
+  const std::vector<std::vector<int>> ids =
+      GroupMarkerObservations(screened, options.marker_group_radius_mm, rep.markers);
+  for (std::size_t f = 0; f < rejected_flags.size(); ++f) {
+    for (std::size_t k = 0; k < rejected_flags[f].size(); ++k) {
+      if (rejected_flags[f][k]) ++rep.markers[static_cast<std::size_t>(ids[f][k])].rejected;
+    }
+  }
   rep.evaluations = evaluations;
   rep.initial_cost = 2.0 * initial_cost;
   rep.final_cost = 2.0 * fit.lm.final_cost;

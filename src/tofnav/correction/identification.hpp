@@ -10,6 +10,7 @@
 #include "tofnav/core/rigid3d.hpp"
 #include "tofnav/correction/depth_error_model.hpp"
 #include "tofnav/correction/identification_frame.hpp"
+#include "tofnav/correction/identification_screening.hpp"
 #include "tofnav/correction/levenberg_marquardt.hpp"
 #include "tofnav/correction/surface_costs.hpp"
 #include "tofnav/registration/surface_index.hpp"
@@ -37,6 +38,11 @@ struct IdentificationOptions {
   bool reject_outlier_markers = true;
   double marker_outlier_spreads = 3.0;
   double min_marker_outlier_mm = 2.0;
+  /// Beyond the paper: head points and frames of transient foreground (a hand) left out first.
+  ForegroundScreeningOptions foreground;
+  /// Marker observations whose centres lie this close in `world` are one marker (the report's
+  /// per-marker counts) [mm]; stickers are placed farther apart than this.
+  double marker_group_radius_mm = 10.0;
   CorrectnessOptions correctness;
   LevenbergMarquardtOptions lm;
   /// Central-difference steps of C1 [mm], C2 [1], C3 [mm per unit g], C4 [mm].

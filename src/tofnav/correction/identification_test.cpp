@@ -48,7 +48,7 @@ TEST(IdentifyDepthModel, LeavesOutMarkersThatAreNotOnTheSkin) {
   for (std::size_t f = 0; f < frames.size(); ++f)
     frames[f].markers.push_back(unbiased[f].markers[0]);
   const DepthErrorModel fitted = IdentifyDepthModel(frames, nullptr, DepthErrorModel{});
-  EXPECT_EQ(fitted.report.markers_rejected, static_cast<int>(frames.size()));
+  EXPECT_EQ(fitted.report.marker_observations_rejected, static_cast<int>(frames.size()));
   EXPECT_NEAR(fitted.c1_mm, 2.8, 2.8 * kRelTol);
   EXPECT_NEAR(fitted.c2, 0.010, 0.010 * kRelTol);
   EXPECT_NEAR(fitted.c3_mm, 4.0, 4.0 * kRelTol);
@@ -56,7 +56,7 @@ TEST(IdentifyDepthModel, LeavesOutMarkersThatAreNotOnTheSkin) {
   IdentificationOptions keep;
   keep.reject_outlier_markers = false;
   const DepthErrorModel pulled = IdentifyDepthModel(frames, nullptr, DepthErrorModel{}, keep);
-  EXPECT_EQ(pulled.report.markers_rejected, 0);
+  EXPECT_EQ(pulled.report.marker_observations_rejected, 0);
   EXPECT_GT(std::abs(pulled.c1_mm - 2.8) / 2.8 + std::abs(pulled.c2 - 0.010) / 0.010 +
                 std::abs(pulled.c3_mm - 4.0) / 4.0,
             5.0 * kRelTol);

@@ -99,6 +99,11 @@ Json ReportToJson(const DepthModelFitReport& r) {
                       {"err_s_mm", f.err_s_mm},
                       {"markers", f.markers}});
   }
+  Json markers = Json::array();
+  for (const MarkerUse& m : r.markers) {
+    markers.push_back(
+        {{"centre_mm", m.centre_mm}, {"observations", m.observations}, {"rejected", m.rejected}});
+  }
   Json cv = Json::array();
   for (const auto& [name, cost] : r.cross_validation) {
     cv.push_back({{"model", name}, {"held_out_err_s2_mm2", cost}});
@@ -106,7 +111,12 @@ Json ReportToJson(const DepthModelFitReport& r) {
   return Json{{"method", r.method},
               {"costs", r.costs},
               {"frames_used", r.frames_used},
-              {"markers_rejected", r.markers_rejected},
+              {"frames_left_out", r.frames_left_out},
+              {"head_points_left_out", r.head_points_left_out},
+              {"marker_patches_screened_out", r.marker_patches_screened_out},
+              {"marker_observations", r.marker_observations},
+              {"marker_observations_rejected", r.marker_observations_rejected},
+              {"markers", markers},
               {"evaluations", r.evaluations},
               {"initial_cost_mm2", r.initial_cost},
               {"final_cost_mm2", r.final_cost},
@@ -141,7 +151,25 @@ DepthModelFitReport ReportFromJson(const Json& json) {
   str("method", r.method);
   str("costs", r.costs);
   num(json, "frames_used", r.frames_used);
-  num(json, "markers_rejected", r.markers_rejected);
+  num(json, "frames_left_out", r.frames_left_out);
+  num(json, "head_points_left_out", r.head_points_left_out);
+  num(json, "marker_patches_screened_out", r.marker_patches_screened_out);
+  num(json, "marker_observations", r.marker_observations);
+  num(json, "markers_rejected", r.marker_observations_rejected);  // written before 2026-11-26
+  num(json, "marker_observations_rejected", r.marker_observations_rejected);
+  if (json.contains("markers") && json["markers"].is_array()) {
+    for (const Json& m : json["markers"]) {
+      MarkerUse use;
+      if (m.contains("centre_mm") && m["centre_mm"].is_array() && m["centre_mm"].size() == 3) {
+        for (std::size_t i = 0; i < 3; ++i) {
+          if (m["centre_mm"][i].is_number()) use.centre_mm[i] = m["centre_mm"][i].get<double>();
+        }
+      }
+      num(m, "observations", use.observations);
+      num(m, "rejected", use.rejected);
+      r.markers.push_back(use);
+    }
+  }
   num(json, "evaluations", r.evaluations);
   num(json, "initial_cost_mm2", r.initial_cost);
   num(json, "final_cost_mm2", r.final_cost);
