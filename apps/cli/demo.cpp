@@ -37,6 +37,10 @@ void ScaleDemoFrames(DemoContext& ctx, double scale) {
   };
   ctx.stage_frames = scaled(160.0, 80.0);    // four stage runs, >= 20 frames each
   ctx.session_frames = scaled(600.0, 60.0);  // evd-usecase frames
+  // A shorter session keeps the whole headset motion (every n-th slot) rather than its first
+  // seconds: identification and fusion need the views, not the frame rate (docs/suite.md).
+  ctx.session_slot_stride = std::max<std::int64_t>(
+      1, static_cast<std::int64_t>(std::round(600.0 / static_cast<double>(ctx.session_frames))));
   ctx.depth_eval_frames = static_cast<int>(scaled(24.0, 6.0));
 }
 

@@ -71,6 +71,7 @@ const std::string& PatientObjectName(const sim::Scenario& s) {
 void RunDemoSession(DemoContext& ctx, DemoJson& stage) {
   sim::Scenario scenario =
       sim::BuiltinScenario("evd-usecase", ctx.patient_head ? &*ctx.patient_head : nullptr);
+  scenario.timing.slot_stride = ctx.session_slot_stride;
   if (ctx.vary_session) ctx.vary_session(scenario);
   const std::vector<int> parts = HeadframeTools(scenario);
   Require(!parts.empty() && scenario.patient.has_value(), "evd-usecase has no headframe");

@@ -29,9 +29,10 @@ struct DemoContext {
   std::string head;  // "phantom" or "ct:<volume>"
   std::uint64_t seed = 1;
   bool quiet = false;
-  std::int64_t stage_frames = 160;    // marker-stage recording (four runs)
-  std::int64_t session_frames = 300;  // patient session (identification, reconstruction, nav)
-  int depth_eval_frames = 24;         // frames of the depth evaluation (ray cast truth labels)
+  std::int64_t stage_frames = 160;       // marker-stage recording (four runs)
+  std::int64_t session_frames = 300;     // patient session (identification, reconstruction, nav)
+  std::int64_t session_slot_stride = 1;  // every n-th slot of the session's motion is rendered
+  int depth_eval_frames = 24;            // frames of the depth evaluation (ray cast truth labels)
   std::function<void(const std::string&, std::size_t, std::size_t)> progress;
   /// Applied to the built-in scenarios before they are simulated (the robustness suite's
   /// variations: docs/suite.md); unset, the demo's own scenarios.

@@ -220,6 +220,7 @@ sim::FrameTimingOptions ParseTiming(const Json& json, const std::string& where) 
   in.Read("start_ticks", options.start_ticks);
   in.Read("drop_probability", options.drop_probability);
   in.Read("mean_drop_slots", options.mean_drop_slots);
+  in.Read("slot_stride", options.slot_stride);
   in.Finish();
   Checked(where, [&] { options.Check(); });
   return options;

@@ -109,7 +109,8 @@ OrderedJson Header(const sim::Scenario& s, const TruthRunInfo& info) {
   h["timing"] = {{"rate_hz", s.timing.rate_hz},
                  {"start_ticks", s.timing.start_ticks},
                  {"drop_probability", s.timing.drop_probability},
-                 {"mean_drop_slots", s.timing.mean_drop_slots}};
+                 {"mean_drop_slots", s.timing.mean_drop_slots},
+                 {"slot_stride", s.timing.slot_stride}};
   h["render"] = internal::RenderJson(s.render);
   OrderedJson materials = OrderedJson::array();
   for (const sim::Material& m : s.scene.materials) materials.push_back(internal::MaterialJson(m));

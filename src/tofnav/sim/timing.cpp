@@ -24,6 +24,8 @@ void FrameTimingOptions::Check() const {
   Require(std::isfinite(mean_drop_slots) && mean_drop_slots >= 1.0,
           "FrameTimingOptions.mean_drop_slots must be >= 1");
   Require(start_ticks < (std::uint64_t{1} << 62), "FrameTimingOptions.start_ticks is too large");
+  Require(slot_stride >= 1 && slot_stride <= 1000,
+          "FrameTimingOptions.slot_stride must lie in [1, 1000]");
 }
 
 std::uint64_t SlotTicks(const FrameTimingOptions& options, std::int64_t slot) {
@@ -38,7 +40,10 @@ FrameClock::FrameClock(const FrameTimingOptions& options, std::uint64_t seed)
 }
 
 std::int64_t FrameClock::NextSlot() {
-  const std::int64_t slot = next_++;
+  const std::int64_t stride = options_.slot_stride;
+  const std::int64_t slot = next_;
+  next_ += stride;
+  if (slot > 0) dropped_ += stride - 1;  // the thinned slots before this one
   if (slot == 0 || options_.drop_probability <= 0.0) return slot;
   // A run of drops starts after a kept slot with drop_probability and continues with
   // 1 - 1 / mean_drop_slots per further slot (geometric length).
@@ -46,9 +51,9 @@ std::int64_t FrameClock::NextSlot() {
   const double keep_dropping = 1.0 - 1.0 / options_.mean_drop_slots;
   std::int64_t skipped = 1;
   while (Uniform(rng_) < keep_dropping) ++skipped;
-  dropped_ += skipped;
-  next_ += skipped;
-  return slot + skipped;
+  dropped_ += skipped * stride;
+  next_ += skipped * stride;
+  return slot + skipped * stride;
 }
 
 void SlamJitterOptions::Check() const {

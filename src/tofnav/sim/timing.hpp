@@ -17,7 +17,10 @@ struct FrameTimingOptions {
   std::uint64_t start_ticks = 36'000'000'000;
   double drop_probability = 0.0;  // chance that a kept slot is followed by a dropped one
   double mean_drop_slots = 1.0;   // mean length of a run of dropped slots (geometric, >= 1)
-  void Check() const;             // throws PreconditionError naming the bad field
+  /// Keep every n-th slot only (the others count as dropped): the same motion over its whole
+  /// duration in 1/n of the frames, e.g. the short runs of the robustness suite (docs/suite.md).
+  std::int64_t slot_stride = 1;
+  void Check() const;  // throws PreconditionError naming the bad field
 };
 
 /// Host ticks of slot `slot`: start_ticks + round(slot * 1e7 / rate_hz).

@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "matchers.hpp"
+#include "tofnav/core/require.hpp"
 
 namespace tofnav::sim {
 namespace {
@@ -24,6 +25,26 @@ TEST(FrameClock, WithoutDropsEverySlotIsAFrame) {
   FrameClock clock(FrameTimingOptions{}, 3);
   for (std::int64_t slot = 0; slot < 100; ++slot) ASSERT_EQ(clock.NextSlot(), slot);
   EXPECT_EQ(clock.dropped_slots(), 0);
+}
+
+TEST(FrameClock, AStrideKeepsEveryNthSlotAndCountsTheRestAsDropped) {
+  FrameTimingOptions options;
+  options.slot_stride = 7;
+  FrameClock clock(options, 3);
+  for (std::int64_t k = 0; k < 50; ++k) ASSERT_EQ(clock.NextSlot(), 7 * k);
+  EXPECT_EQ(clock.dropped_slots(), 49 * 6);  // the slots between the 50 kept ones
+  // With drops, a dropped run skips whole strides: every slot stays a multiple of 7 and the
+  // slots without a frame are exactly the gaps.
+  options.drop_probability = 0.2;
+  FrameClock dropping(options, 5);
+  std::int64_t slot = 0;
+  for (int i = 0; i < 1000; ++i) {
+    slot = dropping.NextSlot();
+    ASSERT_EQ(slot % 7, 0);
+  }
+  EXPECT_EQ(dropping.dropped_slots(), slot + 1 - 1000);
+  options.slot_stride = 0;
+  EXPECT_THROW(options.Check(), PreconditionError);
 }
 
 TEST(FrameClock, DropsFollowTheGeometricBurstModel) {
