@@ -35,6 +35,10 @@ int RunSkin(int argc, char** argv) {
   app.add_option("--decimate", options.decimation_cell_mm,
                  "vertex clustering cell [mm] (default 0: off)")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--opening", options.opening_radius_mm,
+                 "radius [mm] of the ball that must pass an opening for the air behind it to "
+                 "count as outside (default 4; 0: off)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--ras", ras, "write RAS coordinates (3D Slicer's world) instead of LPS");
   app.add_flag("--all-components", all_components,
                "mesh every component above the threshold (default: the largest only)");

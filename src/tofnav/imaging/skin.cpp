@@ -57,6 +57,8 @@ void SkinOptions::Check() const {
   Require(smoothing_iterations >= 0, "SkinOptions: smoothing_iterations must be >= 0");
   Require(std::isfinite(decimation_cell_mm) && decimation_cell_mm >= 0.0,
           "SkinOptions: decimation_cell_mm must be >= 0");
+  Require(std::isfinite(opening_radius_mm) && opening_radius_mm >= 0.0,
+          "SkinOptions: opening_radius_mm must be >= 0");
 }
 
 double OtsuThreshold(std::span<const float> values) {
@@ -123,7 +125,15 @@ SkinResult ExtractSkin(const CtVolume& volume, const SkinOptions& options) {
       mask.values[v] = volume.values[v] > threshold ? 1 : 0;
     }
   }
-  if (options.fill_cavities) result.filled_voxels = FillSliceCavities(mask, AxialAxis(volume));
+  if (options.fill_cavities) {
+    const std::vector<std::uint8_t> seeds = ExteriorFaceSeeds(mask);
+    if (options.opening_radius_mm > 0.0) {
+      const Eigen::Vector3d spacing = volume.spacing_mm();
+      result.filled_voxels += FillUnreachableAir(mask, {spacing.x(), spacing.y(), spacing.z()},
+                                                 options.opening_radius_mm, seeds);
+    }
+    result.filled_voxels += FillSliceCavities(mask, AxialAxis(volume), seeds);
+  }
   result.kept_voxels =
       static_cast<std::size_t>(std::count(mask.values.begin(), mask.values.end(), 1));
 

@@ -60,8 +60,9 @@ int KeepLargestComponent(VoxelMask& mask) {
   return static_cast<int>(sizes.size());
 }
 
-std::size_t FillSliceCavities(VoxelMask& mask, int axis) {
+std::size_t FillSliceCavities(VoxelMask& mask, int axis, const std::vector<std::uint8_t>& seeds) {
   Require(axis >= 0 && axis < 3, "FillSliceCavities: axis must be 0, 1 or 2");
+  Require(seeds.size() == mask.values.size(), "FillSliceCavities: seeds size != mask size");
   const std::array<std::size_t, 3> dims = {static_cast<std::size_t>(mask.dims[0]),
                                            static_cast<std::size_t>(mask.dims[1]),
                                            static_cast<std::size_t>(mask.dims[2])};
@@ -78,29 +79,18 @@ std::size_t FillSliceCavities(VoxelMask& mask, int axis) {
   ParallelFor(0, static_cast<std::int64_t>(slices), [&](std::int64_t slice) {
     const std::size_t base =
         static_cast<std::size_t>(slice) * strides[static_cast<std::size_t>(axis)];
-    std::vector<std::pair<std::size_t, std::size_t>> stack;
-    const auto push = [&](std::size_t u, std::size_t v) {
+    const auto enter = [&](std::size_t u, std::size_t v) {
       std::uint8_t& value = mask.values[base + u * su + v * sv];
-      if (value != kBackground) return;
+      if (value != kBackground) return false;
       value = kReached;
-      stack.emplace_back(u, v);
+      return true;
     };
-    for (std::size_t u = 0; u < nu; ++u) {
-      push(u, 0);
-      push(u, nv - 1);
-    }
-    for (std::size_t v = 0; v < nv; ++v) {
-      push(0, v);
-      push(nu - 1, v);
-    }
-    while (!stack.empty()) {
-      const auto [u, v] = stack.back();
-      stack.pop_back();
-      if (u > 0) push(u - 1, v);
-      if (u + 1 < nu) push(u + 1, v);
-      if (v > 0) push(u, v - 1);
-      if (v + 1 < nv) push(u, v + 1);
-    }
+    FloodPlaneFromRim(
+        nu, nv,
+        [&](std::size_t u, std::size_t v) {
+          return seeds[base + u * su + v * sv] != 0 && enter(u, v);
+        },
+        enter);
     for (std::size_t v = 0; v < nv; ++v) {
       for (std::size_t u = 0; u < nu; ++u) {
         std::uint8_t& value = mask.values[base + u * su + v * sv];
