@@ -117,7 +117,7 @@ SkinResult ExtractSkin(const CtVolume& volume, const SkinOptions& options) {
   for (std::size_t v = 0; v < volume.values.size(); ++v) {
     mask.values[v] = volume.values[v] > threshold ? 1 : 0;  // NaN: background
   }
-  result.mask_components = KeepLargestComponent(mask);
+  result.mask_components = KeepOuterComponent(mask, ExteriorFaceSeeds(mask));
   Require(result.mask_components > 0, "ExtractSkin: no voxel above the threshold " +
                                           std::to_string(result.threshold) + " (empty mask)");
   if (!options.keep_largest_component) {

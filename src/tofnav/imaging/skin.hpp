@@ -22,8 +22,9 @@ struct SkinOptions {
   /// In the volume's unit. Default: kCtSkinThresholdHu for CT (modality "CT", or no modality and
   /// values down to air, <= -500), Otsu's threshold otherwise (MR).
   std::optional<double> threshold;
-  /// Keep the largest 6-connected component of the mask only (drops the head holder, table,
-  /// tubes, noise). Off: every component is meshed.
+  /// Keep the largest 6-connected component of the mask seen from outside only (drops the head
+  /// holder, table, tubes, noise, and an MR brain cut off from the scalp by the field of view).
+  /// Off: every component is meshed.
   bool keep_largest_component = true;
   /// Fill cavities enclosed within each axial slice (airways, sinuses, ear and mouth interior)
   /// and the air a ball of `opening_radius_mm` rolled in from outside cannot sweep, so that only

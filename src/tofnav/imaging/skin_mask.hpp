@@ -39,9 +39,11 @@ void FloodPlaneFromRim(std::size_t nu, std::size_t nv, EnterRim&& enter_rim, Ent
   }
 }
 
-/// Keeps the largest 6-connected component of the mask (ties: the one met first in memory
-/// order) and returns the number of components there were.
-int KeepLargestComponent(VoxelMask& mask);
+/// Keeps the largest 6-connected component of the mask among those seen from outside: hit
+/// first by rays along the voxel axes from the exterior face voxels (`seeds`, of
+/// ExteriorFaceSeeds) at least a tenth as often as the most-hit component (ties: the one met
+/// first in memory order). Returns the number of components there were.
+int KeepOuterComponent(VoxelMask& mask, const std::vector<std::uint8_t>& seeds);
 
 /// Background voxels on the volume's six faces that lie outside the head: reachable, within
 /// their face, from the face's rim (the volume's edges). Background enclosed by tissue on a face
