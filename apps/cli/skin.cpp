@@ -8,9 +8,11 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "tofnav/core/require.hpp"
 #include "tofnav/io/mesh_io.hpp"
 #include "tofnav/io/volume_io.hpp"
 
@@ -58,7 +60,12 @@ int RunSkin(int argc, char** argv) {
   const CtVolume volume = ReadVolume(volume_path);
   progress.Update(1, 3);
   const auto read = std::chrono::steady_clock::now();
-  SkinResult skin = ExtractSkin(volume, options);
+  SkinResult skin;
+  try {
+    skin = ExtractSkin(volume, options);
+  } catch (const PreconditionError& e) {  // no skin in this volume: say which file
+    throw std::runtime_error(volume_path.string() + ": " + e.what());
+  }
   progress.Update(2, 3);
   const auto extracted = std::chrono::steady_clock::now();
   if (ras) skin.mesh = MeshLpsToRas(skin.mesh);

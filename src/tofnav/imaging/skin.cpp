@@ -47,6 +47,12 @@ std::pair<double, std::string> ChooseThreshold(const CtVolume& volume, const Ski
     is_ct = lowest <= kAirBelowHu;
   }
   if (is_ct) return {kCtSkinThresholdHu, "CT default"};
+  const auto finite = std::find_if(volume.values.begin(), volume.values.end(),
+                                   [](float v) { return std::isfinite(v); });
+  Require(finite != volume.values.end() &&
+              std::any_of(finite, volume.values.end(),
+                          [&](float v) { return std::isfinite(v) && v != *finite; }),
+          "ExtractSkin: the volume is empty (every value the same, or none finite): no skin");
   return {OtsuThreshold(volume.values), "Otsu"};
 }
 
@@ -150,6 +156,10 @@ SkinResult ExtractSkin(const CtVolume& volume, const SkinOptions& options) {
                           volume.image_from_ijk);
   TriangleMesh mesh =
       ExtractIsoSurface(grid, {.iso_value = threshold, .outside = IsoSurfaceOutside::kBelow});
+  Require(!mesh.triangles.empty(),
+          "ExtractSkin: no skin surface at the threshold " + std::to_string(result.threshold) +
+              ": the mask has no boundary inside the volume (it fills the field of view, or the "
+              "volume is one voxel thin)");
   const std::size_t all_triangles = mesh.triangles.size();
   mesh = LargestConnectedComponent(mesh);
   result.dropped_triangles = all_triangles - mesh.triangles.size();
