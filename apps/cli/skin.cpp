@@ -45,7 +45,7 @@ int RunSkin(int argc, char** argv) {
   app.add_flag("--all-components", all_components,
                "mesh every component above the threshold (default: the largest only)");
   app.add_flag("--keep-cavities", keep_cavities,
-               "do not fill airways and sinuses enclosed in axial slices");
+               "do not fill airways, sinuses and the air behind narrow openings (--opening)");
   app.add_flag("-q,--quiet", quiet, "no progress bar, no summary");
   app.add_flag("--json", json, "print the summary as one JSON object");
   CLI11_PARSE(app, argc, argv);
