@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 #include "tofnav/core/distance_transform.hpp"
 #include "tofnav/core/require.hpp"
