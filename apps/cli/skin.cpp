@@ -8,9 +8,11 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "tofnav/core/require.hpp"
 #include "tofnav/io/mesh_io.hpp"
 #include "tofnav/io/volume_io.hpp"
 
@@ -35,11 +37,15 @@ int RunSkin(int argc, char** argv) {
   app.add_option("--decimate", options.decimation_cell_mm,
                  "vertex clustering cell [mm] (default 0: off)")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--opening", options.opening_radius_mm,
+                 "radius [mm] of the ball that must pass an opening for the air behind it to "
+                 "count as outside (default 4; 0: off)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--ras", ras, "write RAS coordinates (3D Slicer's world) instead of LPS");
   app.add_flag("--all-components", all_components,
                "mesh every component above the threshold (default: the largest only)");
   app.add_flag("--keep-cavities", keep_cavities,
-               "do not fill airways and sinuses enclosed in axial slices");
+               "do not fill airways, sinuses and the air behind narrow openings (--opening)");
   app.add_flag("-q,--quiet", quiet, "no progress bar, no summary");
   app.add_flag("--json", json, "print the summary as one JSON object");
   CLI11_PARSE(app, argc, argv);
@@ -54,7 +60,12 @@ int RunSkin(int argc, char** argv) {
   const CtVolume volume = ReadVolume(volume_path);
   progress.Update(1, 3);
   const auto read = std::chrono::steady_clock::now();
-  SkinResult skin = ExtractSkin(volume, options);
+  SkinResult skin;
+  try {
+    skin = ExtractSkin(volume, options);
+  } catch (const PreconditionError& e) {  // no skin in this volume: say which file
+    throw std::runtime_error(volume_path.string() + ": " + e.what());
+  }
   progress.Update(2, 3);
   const auto extracted = std::chrono::steady_clock::now();
   if (ras) skin.mesh = MeshLpsToRas(skin.mesh);

@@ -61,17 +61,20 @@ void DefineImaging(py::module_& m) {
   m.def(
       "extract_skin",
       [](const CtVolume& volume, std::optional<double> threshold, bool keep_largest_component,
-         bool fill_cavities, int smoothing_iterations, double decimation_cell_mm) {
+         bool fill_cavities, double opening_radius_mm, int smoothing_iterations,
+         double decimation_cell_mm) {
         py::gil_scoped_release release;
         return ExtractSkin(volume, {.threshold = threshold,
                                     .keep_largest_component = keep_largest_component,
                                     .fill_cavities = fill_cavities,
+                                    .opening_radius_mm = opening_radius_mm,
                                     .smoothing_iterations = smoothing_iterations,
                                     .decimation_cell_mm = decimation_cell_mm});
       },
       py::arg("volume"), py::arg("threshold") = py::none(),
       py::arg("keep_largest_component") = true, py::arg("fill_cavities") = true,
-      py::arg("smoothing_iterations") = 0, py::arg("decimation_cell_mm") = 0.0,
+      py::arg("opening_radius_mm") = kDefaultOpeningRadiusMm, py::arg("smoothing_iterations") = 0,
+      py::arg("decimation_cell_mm") = 0.0,
       "outer skin surface in image (LPS mm); threshold default: -300 HU for CT, Otsu otherwise");
 }
 

@@ -64,9 +64,12 @@ void LoadGridBrick(const Grid3<float>& grid, const Eigen::Vector3i& key, float i
 }
 
 /// Tiles whose samples hold finite values on both sides of the iso value, in (z, y, x) order.
+/// A tile owns the edges leaving its lattice points 8 key .. 8 key + 7, so every lattice point
+/// needs an owner: ceil(dims / 8) tiles per axis, not ceil(cells / 8). When dims - 1 is a multiple
+/// of 8 the last tile holds only the grid's last layer, whose in-layer edges cross wherever the
+/// surface meets that border (a head cut by the field of view; docs/registration.md 1.).
 std::vector<Eigen::Vector3i> ActiveTiles(const Grid3<float>& grid, float iso) {
-  const Eigen::Vector3i cells = (grid.dims() - Eigen::Vector3i::Ones()).cwiseMax(0);
-  const Eigen::Vector3i tiles = (cells.array() + kBrickSide - 1) / kBrickSide;
+  const Eigen::Vector3i tiles = (grid.dims().array().max(0) + kBrickSide - 1) / kBrickSide;
   const std::size_t count = static_cast<std::size_t>(tiles.x()) *
                             static_cast<std::size_t>(tiles.y()) *
                             static_cast<std::size_t>(tiles.z());

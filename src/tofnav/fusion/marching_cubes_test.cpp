@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <numbers>
 #include <random>
 
@@ -164,6 +165,44 @@ TEST(ExtractIsoSurfaceGrid, MissingValuesLeaveAnOpenPatch) {
   const TriangleMesh mesh = ExtractIsoSurface(grid);
   EXPECT_GT(CountEdges(mesh).boundary, 0);
   for (const Eigen::Vector3d& v : mesh.vertices) EXPECT_LE(v.x(), -23.7 + 29.0);
+}
+
+TEST(ExtractIsoSurfaceGrid, SurfaceCutByTheLastLayerIsMeshedOpen) {
+  // 25 samples = 24 cells = exactly three tiles per axis: the last layer's in-layer edges are
+  // owned by a fourth tile (the real MR head ch2.nii.gz has 217 samples along y). A sphere
+  // centred on the far corner crosses all three last layers; its octant is meshed, open there.
+  constexpr int kSide = 3 * 8 + 1;
+  const double last = kSide - 1;
+  const Eigen::Vector3d corner = Eigen::Vector3d::Constant(last);
+  // Not a whole number of 1 mm voxels: no sample lies exactly on the surface (a vertex there
+  // would sit on a lattice point, repeated by every edge meeting it).
+  constexpr double kRadius = 19.5;
+  const Grid3<float> grid =
+      SphereSdf(Eigen::Vector3i::Constant(kSide),
+                Affine(Eigen::Matrix3d::Identity(), Eigen::Vector3d::Zero()), corner, kRadius);
+  const TriangleMesh mesh = ExtractIsoSurface(grid);
+  ASSERT_FALSE(mesh.triangles.empty());
+  EXPECT_NEAR(mesh.SurfaceAreaMm2(), std::numbers::pi * kRadius * kRadius / 2.0,
+              kAreaRelTol * std::numbers::pi * kRadius * kRadius / 2.0);  // 4 pi R^2 / 8
+  EXPECT_LT(MaxSphereErrorMm(mesh, corner, kRadius), kSdfVertexTolMm);
+  EXPECT_EQ(CountInwardTriangles(mesh, corner), 0);
+  const EdgeCounts edges = CountEdges(mesh);
+  EXPECT_EQ(edges.non_manifold, 0);
+  EXPECT_EQ(edges.misoriented, 0);
+  EXPECT_GT(edges.boundary, 0);
+  EXPECT_EQ(CountDuplicateVertices(mesh), 0);
+  // Open only where the border cuts it: both ends of every boundary edge lie on one last layer.
+  std::map<std::pair<int, int>, int> uses;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    for (int k = 0; k < 3; ++k) ++uses[std::minmax(t[k], t[(k + 1) % 3])];
+  }
+  for (const auto& [edge, count] : uses) {
+    if (count != 1) continue;
+    const Eigen::Vector3d &a = mesh.vertices[static_cast<std::size_t>(edge.first)],
+                          &b = mesh.vertices[static_cast<std::size_t>(edge.second)];
+    EXPECT_TRUE((a.array() == last && b.array() == last).any())
+        << a.transpose() << " - " << b.transpose();
+  }
 }
 
 TEST(MarchingCubesTables, TrianglesUseExactlyTheCrossedEdges) {

@@ -58,4 +58,26 @@ void CtVolume::Check() const {
           "image_from_ijk must be invertible (non-zero, non-coplanar columns)");
 }
 
+CtVolume CropVolume(const CtVolume& volume, const std::array<int, 3>& first,
+                    const std::array<int, 3>& dims) {
+  volume.Check();
+  for (std::size_t a = 0; a < 3; ++a) {
+    Require(first[a] >= 0 && dims[a] > 0 && dims[a] <= volume.dims[a] - first[a],
+            "CropVolume: the box must be non-empty and inside the volume");
+  }
+  CtVolume crop = volume;
+  crop.dims = dims;
+  crop.image_from_ijk.topRightCorner<3, 1>() = volume.VoxelCentre(first[0], first[1], first[2]);
+  crop.values.resize(crop.voxel_count());
+  for (int k = 0; k < dims[2]; ++k) {
+    for (int j = 0; j < dims[1]; ++j) {
+      for (int i = 0; i < dims[0]; ++i) {
+        crop.values[crop.Index(i, j, k)] =
+            volume.values[volume.Index(first[0] + i, first[1] + j, first[2] + k)];
+      }
+    }
+  }
+  return crop;
+}
+
 }  // namespace tofnav

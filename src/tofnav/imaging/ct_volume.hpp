@@ -52,4 +52,10 @@ struct CtVolume {
   void Check() const;
 };
 
+/// The voxels first .. first + dims - 1 of `volume` (same image frame: the origin moves to voxel
+/// `first`), e.g. to simulate a field of view that cuts the head. PreconditionError unless the
+/// box is non-empty and inside the volume.
+CtVolume CropVolume(const CtVolume& volume, const std::array<int, 3>& first,
+                    const std::array<int, 3>& dims);
+
 }  // namespace tofnav

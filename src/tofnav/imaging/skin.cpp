@@ -47,6 +47,12 @@ std::pair<double, std::string> ChooseThreshold(const CtVolume& volume, const Ski
     is_ct = lowest <= kAirBelowHu;
   }
   if (is_ct) return {kCtSkinThresholdHu, "CT default"};
+  const auto finite = std::find_if(volume.values.begin(), volume.values.end(),
+                                   [](float v) { return std::isfinite(v); });
+  Require(finite != volume.values.end() &&
+              std::any_of(finite, volume.values.end(),
+                          [&](float v) { return std::isfinite(v) && v != *finite; }),
+          "ExtractSkin: the volume is empty (every value the same, or none finite): no skin");
   return {OtsuThreshold(volume.values), "Otsu"};
 }
 
@@ -57,6 +63,8 @@ void SkinOptions::Check() const {
   Require(smoothing_iterations >= 0, "SkinOptions: smoothing_iterations must be >= 0");
   Require(std::isfinite(decimation_cell_mm) && decimation_cell_mm >= 0.0,
           "SkinOptions: decimation_cell_mm must be >= 0");
+  Require(std::isfinite(opening_radius_mm) && opening_radius_mm >= 0.0,
+          "SkinOptions: opening_radius_mm must be >= 0");
 }
 
 double OtsuThreshold(std::span<const float> values) {
@@ -115,7 +123,7 @@ SkinResult ExtractSkin(const CtVolume& volume, const SkinOptions& options) {
   for (std::size_t v = 0; v < volume.values.size(); ++v) {
     mask.values[v] = volume.values[v] > threshold ? 1 : 0;  // NaN: background
   }
-  result.mask_components = KeepLargestComponent(mask);
+  result.mask_components = KeepOuterComponent(mask, ExteriorFaceSeeds(mask));
   Require(result.mask_components > 0, "ExtractSkin: no voxel above the threshold " +
                                           std::to_string(result.threshold) + " (empty mask)");
   if (!options.keep_largest_component) {
@@ -123,7 +131,15 @@ SkinResult ExtractSkin(const CtVolume& volume, const SkinOptions& options) {
       mask.values[v] = volume.values[v] > threshold ? 1 : 0;
     }
   }
-  if (options.fill_cavities) result.filled_voxels = FillSliceCavities(mask, AxialAxis(volume));
+  if (options.fill_cavities) {
+    const std::vector<std::uint8_t> seeds = ExteriorFaceSeeds(mask);
+    if (options.opening_radius_mm > 0.0) {
+      const Eigen::Vector3d spacing = volume.spacing_mm();
+      result.filled_voxels += FillUnreachableAir(mask, {spacing.x(), spacing.y(), spacing.z()},
+                                                 options.opening_radius_mm, seeds);
+    }
+    result.filled_voxels += FillSliceCavities(mask, AxialAxis(volume), seeds);
+  }
   result.kept_voxels =
       static_cast<std::size_t>(std::count(mask.values.begin(), mask.values.end(), 1));
 
@@ -140,6 +156,10 @@ SkinResult ExtractSkin(const CtVolume& volume, const SkinOptions& options) {
                           volume.image_from_ijk);
   TriangleMesh mesh =
       ExtractIsoSurface(grid, {.iso_value = threshold, .outside = IsoSurfaceOutside::kBelow});
+  Require(!mesh.triangles.empty(),
+          "ExtractSkin: no skin surface at the threshold " + std::to_string(result.threshold) +
+              ": the mask has no boundary inside the volume (it fills the field of view, or the "
+              "volume is one voxel thin)");
   const std::size_t all_triangles = mesh.triangles.size();
   mesh = LargestConnectedComponent(mesh);
   result.dropped_triangles = all_triangles - mesh.triangles.size();

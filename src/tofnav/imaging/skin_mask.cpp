@@ -11,15 +11,20 @@ namespace tofnav {
 namespace {
 
 constexpr std::uint8_t kBackground = 0, kTissue = 1, kReached = 2;
+/// A component counts as seen from outside when the axis rays from the exterior hit it first at
+/// least this often relative to the most-hit one: the scalp of an MR head cut below the skull
+/// base is seen everywhere, the brain (its own component there) only down an ear canal.
+constexpr double kMinSeenFraction = 0.1;
 
 }  // namespace
 
-int KeepLargestComponent(VoxelMask& mask) {
+int KeepOuterComponent(VoxelMask& mask, const std::vector<std::uint8_t>& seeds) {
   const auto [nx, ny, nz] = mask.dims;
   const std::size_t count = mask.values.size();
   Require(count == static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny) *
                        static_cast<std::size_t>(nz),
-          "KeepLargestComponent: mask size != nx * ny * nz");
+          "KeepOuterComponent: mask size != nx * ny * nz");
+  Require(seeds.size() == count, "KeepOuterComponent: seeds size != mask size");
   const std::size_t sx = 1, sy = static_cast<std::size_t>(nx),
                     sz = static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny);
   std::vector<std::int32_t> labels(count, -1);
@@ -52,16 +57,44 @@ int KeepLargestComponent(VoxelMask& mask) {
     sizes.push_back(size);
   }
   if (sizes.empty()) return 0;
-  const auto largest =
-      static_cast<std::int32_t>(std::max_element(sizes.begin(), sizes.end()) - sizes.begin());
+  // Votes: rays along the axes from each exterior face voxel, for the component they hit first.
+  const std::array<std::size_t, 3> dims = {
+      static_cast<std::size_t>(nx), static_cast<std::size_t>(ny), static_cast<std::size_t>(nz)};
+  const std::array<std::size_t, 3> strides = {sx, sy, sz};
+  std::vector<std::size_t> votes(sizes.size(), 0);
+  for (std::size_t v = 0; v < count; ++v) {
+    if (seeds[v] == 0) continue;
+    const std::array<std::size_t, 3> ijk = {v % sy, (v / sy) % dims[1], v / sz};
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      const std::size_t n = dims[axis], stride = strides[axis];
+      if (ijk[axis] != 0 && ijk[axis] + 1 != n) continue;  // not on a face normal to axis
+      const bool forward = ijk[axis] == 0;
+      std::size_t w = v;
+      for (std::size_t step = 0; step < n; ++step, w = forward ? w + stride : w - stride) {
+        if (labels[w] < 0) continue;
+        ++votes[static_cast<std::size_t>(labels[w])];
+        break;
+      }
+    }
+  }
+  const std::size_t most_votes = *std::max_element(votes.begin(), votes.end());
+  std::int32_t largest = -1;
+  for (std::size_t c = 0; c < sizes.size(); ++c) {
+    const bool seen =
+        static_cast<double>(votes[c]) >= kMinSeenFraction * static_cast<double>(most_votes);
+    if (seen && (largest < 0 || sizes[c] > sizes[static_cast<std::size_t>(largest)])) {
+      largest = static_cast<std::int32_t>(c);
+    }
+  }
   for (std::size_t v = 0; v < count; ++v) {
     mask.values[v] = labels[v] == largest ? kTissue : kBackground;
   }
   return static_cast<int>(sizes.size());
 }
 
-std::size_t FillSliceCavities(VoxelMask& mask, int axis) {
+std::size_t FillSliceCavities(VoxelMask& mask, int axis, const std::vector<std::uint8_t>& seeds) {
   Require(axis >= 0 && axis < 3, "FillSliceCavities: axis must be 0, 1 or 2");
+  Require(seeds.size() == mask.values.size(), "FillSliceCavities: seeds size != mask size");
   const std::array<std::size_t, 3> dims = {static_cast<std::size_t>(mask.dims[0]),
                                            static_cast<std::size_t>(mask.dims[1]),
                                            static_cast<std::size_t>(mask.dims[2])};
@@ -78,29 +111,18 @@ std::size_t FillSliceCavities(VoxelMask& mask, int axis) {
   ParallelFor(0, static_cast<std::int64_t>(slices), [&](std::int64_t slice) {
     const std::size_t base =
         static_cast<std::size_t>(slice) * strides[static_cast<std::size_t>(axis)];
-    std::vector<std::pair<std::size_t, std::size_t>> stack;
-    const auto push = [&](std::size_t u, std::size_t v) {
+    const auto enter = [&](std::size_t u, std::size_t v) {
       std::uint8_t& value = mask.values[base + u * su + v * sv];
-      if (value != kBackground) return;
+      if (value != kBackground) return false;
       value = kReached;
-      stack.emplace_back(u, v);
+      return true;
     };
-    for (std::size_t u = 0; u < nu; ++u) {
-      push(u, 0);
-      push(u, nv - 1);
-    }
-    for (std::size_t v = 0; v < nv; ++v) {
-      push(0, v);
-      push(nu - 1, v);
-    }
-    while (!stack.empty()) {
-      const auto [u, v] = stack.back();
-      stack.pop_back();
-      if (u > 0) push(u - 1, v);
-      if (u + 1 < nu) push(u + 1, v);
-      if (v > 0) push(u, v - 1);
-      if (v + 1 < nv) push(u, v + 1);
-    }
+    FloodPlaneFromRim(
+        nu, nv,
+        [&](std::size_t u, std::size_t v) {
+          return seeds[base + u * su + v * sv] != 0 && enter(u, v);
+        },
+        enter);
     for (std::size_t v = 0; v < nv; ++v) {
       for (std::size_t u = 0; u < nu; ++u) {
         std::uint8_t& value = mask.values[base + u * su + v * sv];

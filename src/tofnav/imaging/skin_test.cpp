@@ -154,6 +154,29 @@ TEST(ExtractSkin, EmptyMaskAndBadOptionsAreErrors) {
   SkinOptions bad;
   bad.decimation_cell_mm = -1.0;
   EXPECT_THROW(ExtractSkin(SyntheticHead(), bad), PreconditionError);
+  bad = SkinOptions{};
+  bad.opening_radius_mm = -1.0;
+  EXPECT_THROW(ExtractSkin(SyntheticHead(), bad), PreconditionError);
+}
+
+TEST(ExtractSkin, VolumesWithoutSkinAreClearErrors) {
+  // Every one a PreconditionError (the CLI names the file), never an internal error.
+  CtVolume zeros = SyntheticHead("MR");
+  std::fill(zeros.values.begin(), zeros.values.end(), 0.0f);  // an empty MR: Otsu has no split
+  EXPECT_THROW(ExtractSkin(zeros), PreconditionError);
+  CtVolume nans = zeros;
+  std::fill(nans.values.begin(), nans.values.end(), std::nanf(""));
+  EXPECT_THROW(ExtractSkin(nans), PreconditionError);
+  CtVolume tissue = SyntheticHead();  // the mask fills the field of view: no boundary
+  std::fill(tissue.values.begin(), tissue.values.end(), static_cast<float>(kTissueHu));
+  EXPECT_THROW(ExtractSkin(tissue), PreconditionError);
+  CtVolume slice = SyntheticHead();  // one axial slice: no cell to mesh
+  slice.dims[2] = 1;
+  slice.values.resize(slice.voxel_count());
+  EXPECT_THROW(ExtractSkin(slice), PreconditionError);
+  SkinOptions above_everything;
+  above_everything.threshold = 5000.0;
+  EXPECT_THROW(ExtractSkin(SyntheticHead(), above_everything), PreconditionError);
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 
+#include "tofnav/core/distance_transform.hpp"
 #include "tofnav/core/parallel_for.hpp"
 #include "tofnav/core/require.hpp"
 
@@ -73,39 +74,6 @@ std::vector<ProjectedTriangle> ProjectTriangles(const TriangleMesh& mesh) {
               c.z(), a.x(), b.x(), c.x(), std::abs(area) < 1e-14 ? 0.0 : 1.0 / area};
   }
   return out;
-}
-
-// 1D squared distance transform of sampled f (Felzenszwalb & Huttenlocher 2012), spacing h.
-void DistanceTransform1d(std::vector<double>& f, double h, std::vector<int>& v,
-                         std::vector<double>& z) {
-  const int n = static_cast<int>(f.size());
-  v.assign(f.size(), 0);
-  z.assign(f.size() + 1, 0.0);
-  int count = -1;  // index of the last parabola of the lower envelope
-  for (int q = 0; q < n; ++q) {
-    if (!std::isfinite(f[static_cast<std::size_t>(q)])) continue;
-    const double fq = f[static_cast<std::size_t>(q)] + (q * h) * (q * h);
-    double s = -kInfinity;
-    while (count >= 0) {
-      const int p = v[static_cast<std::size_t>(count)];
-      s = (fq - (f[static_cast<std::size_t>(p)] + (p * h) * (p * h))) / (2.0 * h * (q - p));
-      if (s > z[static_cast<std::size_t>(count)]) break;
-      --count;
-    }
-    ++count;
-    v[static_cast<std::size_t>(count)] = q;
-    z[static_cast<std::size_t>(count)] = count == 0 ? -kInfinity : s;
-    z[static_cast<std::size_t>(count) + 1] = kInfinity;
-  }
-  if (count < 0) return;  // nothing finite on this line yet
-  const std::vector<double> sampled = f;
-  int k = 0;
-  for (int q = 0; q < n; ++q) {
-    while (z[static_cast<std::size_t>(k) + 1] < q * h) ++k;
-    const int p = v[static_cast<std::size_t>(k)];
-    f[static_cast<std::size_t>(q)] =
-        (q - p) * h * (q - p) * h + sampled[static_cast<std::size_t>(p)];
-  }
 }
 
 }  // namespace
@@ -202,30 +170,7 @@ std::vector<double> SquaredDistanceToOutside(const std::vector<float>& fraction,
                                              const VoxelGrid& grid) {
   std::vector<double> d2(grid.size());
   for (std::size_t n = 0; n < d2.size(); ++n) d2[n] = fraction[n] >= 0.5f ? kInfinity : 0.0;
-  const std::array<int, 3>& dims = grid.dims;
-  for (int axis = 0; axis < 3; ++axis) {
-    const int a1 = (axis + 1) % 3, a2 = (axis + 2) % 3;
-    const int n_axis = dims[static_cast<std::size_t>(axis)];
-    const int n1 = dims[static_cast<std::size_t>(a1)];
-    const int n2 = dims[static_cast<std::size_t>(a2)];
-    ParallelFor(0, static_cast<std::int64_t>(n1) * n2, [&](std::int64_t line) {
-      std::array<int, 3> ijk{};
-      ijk[static_cast<std::size_t>(a1)] = static_cast<int>(line % n1);
-      ijk[static_cast<std::size_t>(a2)] = static_cast<int>(line / n1);
-      std::vector<double> f(static_cast<std::size_t>(n_axis));
-      std::vector<int> v;
-      std::vector<double> z;
-      for (int q = 0; q < n_axis; ++q) {
-        ijk[static_cast<std::size_t>(axis)] = q;
-        f[static_cast<std::size_t>(q)] = d2[grid.Index(ijk[0], ijk[1], ijk[2])];
-      }
-      DistanceTransform1d(f, grid.spacing_mm, v, z);
-      for (int q = 0; q < n_axis; ++q) {
-        ijk[static_cast<std::size_t>(axis)] = q;
-        d2[grid.Index(ijk[0], ijk[1], ijk[2])] = f[static_cast<std::size_t>(q)];
-      }
-    });
-  }
+  SquaredDistanceTransform(d2, grid.dims, {grid.spacing_mm, grid.spacing_mm, grid.spacing_mm});
   return d2;
 }
 
