@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Checked fusion: the per-pixel gate (pixels that contradict a well-observed surface) and the
 // check, gate and integration of one frame.
+#include <algorithm>
 #include <atomic>
 #include <cmath>
 
@@ -20,6 +21,8 @@ std::size_t GateInconsistentPixels(const TsdfVolume& volume, Image<float>& range
   const double truncation_mm = volume.options().truncation_mm();
   // A voxel this close to +truncation was seen as free space (TSDF values are clamped there).
   const double free_mm = 0.99 * truncation_mm;
+  // The TSDF knows distances up to the truncation: a wider gate is the free-space test alone.
+  const double gate_mm = std::min(options.gate_mm, free_mm);
   const Eigen::Matrix3d rotation = tool_from_ahat.RotationMatrix();
   std::atomic<std::size_t> dropped{0};
   ParallelFor(0, camera.height(), [&](std::int64_t row) {
@@ -35,7 +38,7 @@ std::size_t GateInconsistentPixels(const TsdfVolume& volume, Image<float>& range
       if (const auto sample = reader.Sample(p, options.min_model_weight)) {
         // Off a well-observed surface by more than the gate: in front (an occluder such as a
         // hand, a mixed pixel at its edge) or behind (a range too long: multipath).
-        drop = std::abs(sample->distance_mm) >= options.gate_mm;
+        drop = std::abs(sample->distance_mm) >= gate_mm;
       } else if (const auto voxel = reader.NearestVoxel(p, options.min_model_weight)) {
         drop = voxel->distance_mm >= free_mm;  // in well-observed free space
       } else if (const auto nearer =

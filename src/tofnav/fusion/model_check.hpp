@@ -41,12 +41,14 @@ struct ModelCheckOptions {
   double min_correction_rad = 0.00087266462599716477;  // 0.05 deg
   int iterations = 6;
   double huber_mm = 1.0;  // Huber threshold of the alignment's residuals
-  /// Per-pixel gate: a pixel whose point lies more than gate_mm in front of a well-observed
-  /// surface (an occluder such as a hand, a mixed pixel at its edge; or in well-observed free
-  /// space) or behind it (a range too long: multipath) is dropped instead of fused. 3 mm is 3
-  /// sigma of the range noise and symmetric, so dropping the noise's tails biases nothing.
+  /// Per-pixel gate: a pixel whose point lies gate_mm or more in front of a well-observed
+  /// surface (an occluder such as a hand, a mixed pixel at its edge; in well-observed free space)
+  /// or behind it (a range too long: multipath) is dropped instead of fused. The TSDF knows
+  /// distances up to the truncation, so the gate is capped just below it; the default, one
+  /// truncation at 1 mm voxels, measured better than 3 mm (docs/reconstruction.md 5.1): with a
+  /// view-dependent multipath bias a tighter gate locks the surface to the first views.
   bool gate_pixels = true;
-  double gate_mm = 3.0;
+  double gate_mm = 4.0;
   void Check() const;  // throws PreconditionError naming the bad field
 };
 
