@@ -16,17 +16,19 @@ namespace tofnav {
 /// (world_from_tool = world_from_rig * rig_from_ahat * ahat_from_tool).
 struct PoseConsistencyOptions {
   /// Neighbours are the posed samples within this time of the sample, the sample itself left out
-  /// [s]. 0.25 s is 11 frames each side at 45 Hz: enough for a robust median, short enough that
-  /// a slow patient motion moves the head little (a symmetric window's median cancels a steady
-  /// drift to first order).
-  double window_s = 0.25;
+  /// [s]. 0.15 s is ~7 frames each side at 45 Hz: enough for a robust median, short enough that
+  /// a moving patient or platform moves little (a symmetric window's median cancels a steady
+  /// motion to first order; a turntable reversing at 8 deg/s is off by ~0.6 deg at the turn).
+  double window_s = 0.15;
   std::size_t min_neighbours = 4;  // fewer: the sample is not judged (kUnchecked)
   /// A pose farther than this from the neighbours' median pose jumped [mm]: HoloLens 2 head
-  /// tracking jitters ~0.5 mm and the tool's tracking ~0.2 mm RMS; 2 mm is about 4 sigma of both.
-  double max_translation_mm = 2.0;
+  /// tracking jitters ~0.5 mm and the tool's tracking ~0.2 mm RMS, so 3 mm is ~6 sigma of both.
+  /// The check is for gross jumps (a wrong marker correspondence, a reflection taken for a
+  /// marker); smaller offsets are the model check's (fusion/model_check.hpp).
+  double max_translation_mm = 3.0;
   /// The same for rotation [rad]: SLAM ~0.1 deg and the tool's unfiltered rotation ~0.3 deg RMS
-  /// (docs/tracking.md); 1 deg is above 3 sigma of the angle.
-  double max_rotation_rad = 0.017453292519943295;
+  /// (docs/tracking.md); 2 deg is ~6 sigma of the angle and above a turning platform's lag.
+  double max_rotation_rad = 0.034906585039886591;
   /// A noisier sequence (head tracking jitters more in a poorly textured room) raises both
   /// thresholds to this many times the median deviation of all judged poses: 4 medians of a
   /// Maxwell-distributed deviation are ~6 sigma, so jitter alone is not a jump.
