@@ -99,6 +99,27 @@ int RunReconstruct(int argc, char** argv) {
   bool all_markers = false;
   app.add_flag("--all-markers", all_markers,
                "fuse only frames in which every marker of the tool was matched (status ok)");
+  bool no_model_check = false, no_refine = false, no_pixel_gate = false, no_pose_check = false;
+  app.add_flag("--no-model-check", no_model_check,
+               "fuse every posed frame without checking it against the model fused so far");
+  app.add_flag("--no-refine", no_refine,
+               "check frames against the model, but fuse them with their tracked pose");
+  app.add_flag("--no-pixel-gate", no_pixel_gate,
+               "fuse pixels that contradict a well-observed surface (occluders, multipath)");
+  app.add_flag("--no-pose-check", no_pose_check,
+               "keep frames whose world_from_tool jumps relative to their neighbours");
+  app.add_option("--model-min-weight", options.model_check.min_model_weight,
+                 "checks: a voxel is part of the model from this accumulated weight")
+      ->capture_default_str();
+  app.add_option("--gate-mm", options.model_check.gate_mm,
+                 "checks: pixels farther than this from a well-observed surface are dropped [mm]")
+      ->capture_default_str();
+  double max_jump_deg = options.pose_consistency.max_rotation_rad * 180.0 / std::numbers::pi;
+  app.add_option("--max-pose-jump-mm", options.pose_consistency.max_translation_mm,
+                 "temporal check: largest distance of world_from_tool to its neighbours' median")
+      ->capture_default_str();
+  app.add_option("--max-pose-jump-deg", max_jump_deg, "the same for rotation [deg]")
+      ->capture_default_str();
   AddHeadRegionOption(app, options.head_region);
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
@@ -108,6 +129,11 @@ int RunReconstruct(int argc, char** argv) {
   options.max_frames = max_frames;
   options.largest_component = !all_components;
   options.accept_partially_occluded = !all_markers;
+  options.model_check.enabled = !no_model_check;
+  options.model_check.refine = !no_refine;
+  options.model_check.gate_pixels = !no_pixel_gate;
+  options.check_pose_consistency = !no_pose_check;
+  options.pose_consistency.max_rotation_rad = max_jump_deg * std::numbers::pi / 180.0;
   const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
   std::optional<AhatCalibration> calibration;
   if (!calibration_dir.empty()) {
@@ -136,6 +162,8 @@ int RunReconstruct(int argc, char** argv) {
   if (json) {
     nlohmann::ordered_json skipped = nlohmann::ordered_json::object();
     for (const auto& [status, count] : r.skipped_by_status) skipped[status] = count;
+    nlohmann::ordered_json rejected = nlohmann::ordered_json::object();
+    for (const auto& [reason, count] : r.rejected_by_reason) rejected[reason] = count;
     const nlohmann::ordered_json summary{
         {"out", out_path.string()},
         {"tool", tool.name},
@@ -145,6 +173,12 @@ int RunReconstruct(int argc, char** argv) {
         {"frames_fused", r.frames_fused},
         {"frames_skipped", r.frames_skipped},
         {"skipped_by_status", skipped},
+        {"frames_refined", r.frames_refined},
+        {"frames_rejected", r.frames_rejected},
+        {"rejected_by_reason", rejected},
+        {"frames_model_checked", r.frames_model_checked},
+        {"frames_pose_checked", r.frames_pose_checked},
+        {"pixels_gated", r.pixels_gated},
         {"roi_min_mm", Vector(r.roi_in_tool.min())},
         {"roi_max_mm", Vector(r.roi_in_tool.max())},
         {"roi_automatic", r.roi_automatic},
@@ -169,6 +203,15 @@ int RunReconstruct(int argc, char** argv) {
             << r.frames_skipped << " skipped: tool not ok) into " << r.blocks << " blocks; "
             << r.mesh.vertices.size() << " vertices, " << r.mesh.triangles.size()
             << " triangles -> " << out_path.string() << "\n"
+            << "  checks: " << r.frames_refined << " refined, " << r.frames_rejected
+            << " rejected (";
+  const char* separator = "";
+  for (const auto& [reason, count] : r.rejected_by_reason) {
+    std::cout << separator << reason << " " << count;
+    separator = ", ";
+  }
+  std::cout << "); " << r.frames_model_checked << " checked against the model, "
+            << r.frames_pose_checked << " over time; " << r.pixels_gated << " pixels gated\n"
             << "  ROI (" << (r.roi_automatic ? "automatic" : "given") << ") ["
             << r.roi_in_tool.min().transpose() << "] - [" << r.roi_in_tool.max().transpose()
             << "] mm in " << tool.name << "\n"

@@ -12,7 +12,7 @@
 #include "tofnav/core/require.hpp"
 #include "tofnav/correction/frame_segmentation.hpp"
 #include "tofnav/fusion/mesh_components.hpp"
-#include "tofnav/tracking/tool_tracker.hpp"
+#include "tofnav/io/reconstruct_frames.hpp"
 
 namespace tofnav {
 namespace {
@@ -91,6 +91,8 @@ void ReconstructOptions::Check() const {
           "ReconstructOptions::min_ab_weight must be in (0, 1]");
   Require(frame_step >= 1, "ReconstructOptions::frame_step must be >= 1");
   Require(!max_frames || *max_frames >= 1, "ReconstructOptions::max_frames must be >= 1");
+  model_check.Check();
+  pose_consistency.Check();
 }
 
 std::optional<Eigen::AlignedBox3d> AutomaticRoi(const Image<float>& range_mm,
@@ -136,27 +138,24 @@ std::optional<Eigen::AlignedBox3d> AutomaticRoi(const Image<float>& range_mm,
 
 namespace {
 
-// One frame's work that does not depend on other frames (run in parallel over a batch).
+// One posed frame's range work, independent of other frames (run in parallel over a batch).
 struct PreparedFrame {
+  const TrackedFrame* tracked = nullptr;
   AhatFrame frame;
-  std::vector<DetectedMarker> markers;
   Image<float> range_mm;
   Image<float> weight;
 };
 
 void Prepare(PreparedFrame& p, const AhatCamera& camera, const ReconstructOptions& options) {
-  MarkerDetectionResult detection = LocateMarkers(p.frame, camera, options.detection);
-  p.markers = options.marker_error.empty()
-                  ? std::move(detection.markers)
-                  : CorrectMarkerRanges(std::move(detection.markers), options.marker_error);
+  const double ab_threshold = p.tracked->ab_threshold;
   p.range_mm = options.correct_range ? options.correct_range(p.frame, camera)
                                      : RangeFromCodes(p.frame.range_mm);
   Require(p.range_mm.width() == camera.width() && p.range_mm.height() == camera.height(),
           "ReconstructSurface: the corrected range image must have the camera's size");
-  MaskMarkers(p.frame.ab, detection.ab_threshold, options.marker_mask_dilation_px, p.range_mm);
+  MaskMarkers(p.frame.ab, ab_threshold, options.marker_mask_dilation_px, p.range_mm);
   if (options.head_region.enabled) {
     SegmentationOptions seg;
-    seg.marker_ab_threshold = detection.ab_threshold;
+    seg.marker_ab_threshold = ab_threshold;
     seg.transition_dilation_px = options.marker_mask_dilation_px;
     seg.min_range_mm = options.tsdf.min_range_mm;
     seg.max_range_mm = options.tsdf.max_range_mm;
@@ -175,6 +174,23 @@ void Prepare(PreparedFrame& p, const AhatCamera& camera, const ReconstructOption
 
 constexpr std::size_t kBatchFrames = 8;  // frames prepared in parallel
 
+// IntegrateChecked, counted in `result`.
+void FuseChecked(TsdfVolume& volume, Image<float> range_mm, const AhatCamera& camera,
+                 const Rigid3d& tool_from_ahat, const Image<float>& weight,
+                 const ReconstructOptions& options, ReconstructResult& result) {
+  const CheckedIntegration r = IntegrateChecked(volume, std::move(range_mm), camera, tool_from_ahat,
+                                                weight, options.model_check);
+  result.pixels_gated += r.pixels_gated;
+  if (r.check.verdict != ModelVerdict::kUnchecked) ++result.frames_model_checked;
+  if (r.check.verdict == ModelVerdict::kRefined) ++result.frames_refined;
+  if (r.fused) {
+    ++result.frames_fused;
+  } else {
+    ++result.frames_rejected;
+    ++result.rejected_by_reason[ToString(r.check.verdict)];
+  }
+}
+
 }  // namespace
 
 ReconstructResult ReconstructSurface(
@@ -190,18 +206,37 @@ ReconstructResult ReconstructSurface(
     frames.push_back(i);
   }
   result.frames_considered = frames.size();
-  ToolTrackerOptions tracker_options;
-  tracker_options.pose = options.pose;
-  tracker_options.filter_enabled = false;  // per-frame measured poses: a filter lags (5.2)
-  ToolTracker tracker({tool}, tracker_options);
+  const std::size_t total = 2 * frames.size();  // progress: the tracking pass, then fusion
+  std::vector<TrackedFrame> tracked =
+      TrackFrames(recording, camera, tool, options, frames, result, [&](std::size_t done) {
+        if (progress) progress(done, total);
+      });
+  if (options.check_pose_consistency) {
+    result.frames_pose_checked = FlagPoseJumps(camera, options, tracked);
+  }
+  std::vector<const TrackedFrame*> posed;
+  for (const TrackedFrame& f : tracked) {
+    if (!f.ahat_from_tool) {
+      ++result.frames_skipped;
+      ++result.skipped_by_status[ToString(f.status)];
+    } else if (f.pose_jump) {
+      ++result.frames_rejected;
+      ++result.rejected_by_reason[ToString(PoseConsistency::kJump)];
+    } else {
+      posed.push_back(&f);
+    }
+  }
   std::optional<TsdfVolume> volume;
   if (options.tsdf.roi_in_tool) volume.emplace(options.tsdf, camera);
   std::vector<PreparedFrame> batch;
-  for (std::size_t b = 0; b < frames.size(); b += kBatchFrames) {
-    const std::size_t count = std::min(kBatchFrames, frames.size() - b);
+  for (std::size_t b = 0; b < posed.size(); b += kBatchFrames) {
+    const std::size_t count = std::min(kBatchFrames, posed.size() - b);
     Clock::time_point t = Clock::now();
     batch.resize(count);
-    for (std::size_t k = 0; k < count; ++k) batch[k].frame = recording.ReadFrame(frames[b + k]);
+    for (std::size_t k = 0; k < count; ++k) {
+      batch[k].tracked = posed[b + k];
+      batch[k].frame = recording.ReadFrame(posed[b + k]->index);
+    }
     result.read_s += Seconds(t);
     t = Clock::now();
     ParallelFor(0, static_cast<std::int64_t>(count), [&](std::int64_t k) {
@@ -210,39 +245,26 @@ ReconstructResult ReconstructSurface(
     result.prepare_s += Seconds(t);
     for (std::size_t k = 0; k < count; ++k) {
       PreparedFrame& p = batch[k];
-      const std::size_t done = b + k + 1;
-      t = Clock::now();
-      const TrackedTool tracked = tracker.Track(p.markers, p.frame.timestamp_s()).tools[0];
-      result.track_s += Seconds(t);
-      const bool posed =
-          tracked.status() == ToolStatus::kOk ||
-          (options.accept_partially_occluded && tracked.status() == ToolStatus::kPartiallyOccluded);
-      if (!posed || !tracked.measurement.ahat_from_tool) {
-        ++result.frames_skipped;
-        ++result.skipped_by_status[ToString(tracked.status())];
-        if (progress) progress(done, frames.size());
-        continue;
-      }
-      const Rigid3d tool_from_ahat = tracked.measurement.ahat_from_tool->Inverse();
+      if (progress) progress(frames.size() + b + k + 1, total);
+      const Rigid3d tool_from_ahat = p.tracked->ahat_from_tool->Inverse();
       if (!volume) {
         TsdfOptions tsdf = options.tsdf;
         tsdf.roi_in_tool = AutomaticRoi(p.range_mm, camera, tool_from_ahat, options.auto_roi);
         if (!tsdf.roi_in_tool) {  // nothing valid at the image centre: try the next frame
           ++result.frames_skipped;
           ++result.skipped_by_status["no_roi"];
-          if (progress) progress(done, frames.size());
           continue;
         }
         result.roi_automatic = true;
         volume.emplace(tsdf, camera);
       }
       t = Clock::now();
-      volume->Integrate(p.range_mm, tool_from_ahat, p.weight);
+      FuseChecked(*volume, std::move(p.range_mm), camera, tool_from_ahat, p.weight, options,
+                  result);
       result.fuse_s += Seconds(t);
-      ++result.frames_fused;
-      if (progress) progress(done, frames.size());
     }
   }
+  if (progress) progress(total, total);
   if (!volume) {
     throw std::runtime_error("reconstruct: the tool '" + tool.name +
                              "' was not tracked in any frame (no region of interest)");

@@ -15,10 +15,12 @@
 #include "tofnav/correction/head_region.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/fusion/marching_cubes.hpp"
+#include "tofnav/fusion/model_check.hpp"
 #include "tofnav/fusion/tsdf_volume.hpp"
 #include "tofnav/io/ahat_recording.hpp"
 #include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
+#include "tofnav/tracking/pose_consistency.hpp"
 #include "tofnav/tracking/tool_pose.hpp"
 
 namespace tofnav {
@@ -67,6 +69,13 @@ struct ReconstructOptions {
   /// Fuse frames whose tool was matched with min_visible or more but not all markers (status
   /// partially_occluded): a tool made of several rigidly joined ones is rarely seen whole.
   bool accept_partially_occluded = true;
+  /// Checked fusion (docs/reconstruction.md 1.2): each frame against the model fused so far
+  /// (rejected, or its pose refined), pixels that contradict a well-observed surface dropped.
+  ModelCheckOptions model_check;
+  /// Poses checked over time (docs/reconstruction.md 1.1): frames whose world_from_tool jumps
+  /// relative to their neighbours are left out. Needs world_from_rig in the recording.
+  bool check_pose_consistency = true;
+  PoseConsistencyOptions pose_consistency;
   void Check() const;  // throws PreconditionError naming the bad field
 };
 
@@ -78,20 +87,30 @@ struct ReconstructResult {
   std::size_t frames_fused = 0;
   std::size_t frames_skipped = 0;  // no pose, or partially occluded when not accepted
   std::map<std::string, std::size_t> skipped_by_status;  // ToString(ToolStatus) -> frames
-  std::size_t blocks = 0;                                // allocated 8^3 blocks
-  std::size_t mesh_vertices_before_component = 0;        // marching cubes output
-  double read_s = 0.0;                                   // decoding frames
+  /// Posed frames left out by the checks: "pose_jump" (temporal check), "model_residual" and
+  /// "model_offset" (ModelVerdict); not in frames_skipped.
+  std::size_t frames_rejected = 0;
+  std::map<std::string, std::size_t> rejected_by_reason;
+  std::size_t frames_refined = 0;        // fused with the pose aligned to the model
+  std::size_t frames_model_checked = 0;  // judged against the model (the rest: too early or
+                                         // too little overlap)
+  std::size_t frames_pose_checked = 0;   // judged by the temporal check
+  std::size_t pixels_gated = 0;          // dropped by the per-pixel gate, all frames
+  std::size_t blocks = 0;                // allocated 8^3 blocks
+  std::size_t mesh_vertices_before_component = 0;  // marching cubes output
+  double read_s = 0.0;                             // decoding frames
   double prepare_s = 0.0;  // markers, f_rf, range cleaning, Eq. (4), AB weights (in parallel)
-  double track_s = 0.0;    // tool poses
-  double fuse_s = 0.0;     // TsdfVolume::Integrate
+  double track_s = 0.0;    // tool poses and the temporal check
+  double fuse_s = 0.0;     // model checks, pixel gates and TsdfVolume::Integrate
   double mesh_s = 0.0;     // marching cubes + largest component
   double total_s = 0.0;
 };
 
 /// Per frame (from first_frame, every frame_step-th): markers (f_rf-corrected when given), the
-/// tool's pose (status ok only, unfiltered; other frames are skipped and counted), the camera
-/// pose tool_from_ahat, range cleaned (markers masked) and corrected, fused in `tool`; then
-/// marching cubes and the largest connected component. Deterministic for any thread count.
+/// tool's pose (unfiltered; frames without one are skipped and counted), the temporal pose check
+/// over all frames; then per posed frame the camera pose tool_from_ahat, range cleaned (markers
+/// masked) and corrected, checked against the model and fused in `tool`; then marching cubes
+/// and the largest connected component. Deterministic for any thread count.
 /// Throws PreconditionError on bad options, IoError from the recording, and std::runtime_error
 /// when no frame has the tool (automatic ROI impossible) or nothing was reconstructed.
 ReconstructResult ReconstructSurface(

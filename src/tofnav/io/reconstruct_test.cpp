@@ -52,6 +52,12 @@ TEST(ReconstructOptions, CheckNamesTheBadField) {
   options = {};
   options.tsdf.voxel_size_mm = 0.0;
   EXPECT_THROW(options.Check(), PreconditionError);
+  options = {};
+  options.model_check.pixel_stride = 0;
+  EXPECT_THROW(options.Check(), PreconditionError);
+  options = {};
+  options.pose_consistency.max_translation_mm = 0.0;
+  EXPECT_THROW(options.Check(), PreconditionError);
 }
 
 TEST(ComputeErrorStats, MedianIqrRmsOfAbsoluteValues) {
