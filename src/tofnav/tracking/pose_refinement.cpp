@@ -17,17 +17,6 @@ namespace {
 constexpr double kMaxPlanarityRmsMm = 1.0;  // a tool flatter than this carries its discs' plane
 constexpr double kMinPlaneCosine = 0.2;     // grazing views keep the face-on range
 
-// 1.4826 MAD of `values` / sqrt(n), at least `floor_mm` (reorders the values).
-double MeanSigmaMm(std::vector<double>& values, double floor_mm) {
-  if (values.size() < 2) return std::max(floor_mm, 1.0);
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  const double median = *mid;
-  for (double& v : values) v = std::abs(v - median);
-  std::nth_element(values.begin(), mid, values.end());
-  return std::max(floor_mm, 1.4826 * *mid / std::sqrt(static_cast<double>(values.size())));
-}
-
 // Unit normal of a planar tool's markers in the tool frame, or nullopt when not planar.
 std::optional<Eigen::Vector3d> ToolPlaneNormal(const Points3d& markers) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -44,9 +33,11 @@ std::optional<Eigen::Vector3d> ToolPlaneNormal(const Points3d& markers) {
 
 // Range and sigma of one marker: with `normal` (a flat disc's normal in ahat), each core pixel
 // point t u meets the marker ray r in the disc plane at range t (n . u) / (n . r).
+// A damaged marker (occluded, near another blob) keeps its range but its lateral sigma is raised
+// to `damaged_lateral_sigma_mm`: the visible part's centroid is off its centre.
 RayRangeObservation Observe(const DetectedMarker& d, const Eigen::Vector3d& centre,
                             const std::optional<Eigen::Vector3d>& normal,
-                            const PoseRefinementOptions& options) {
+                            double damaged_lateral_sigma_mm, const PoseRefinementOptions& options) {
   RayRangeObservation o;
   o.ray_in_ahat = d.ray_in_ahat;
   o.range_mm = centre.norm();
@@ -68,10 +59,21 @@ RayRangeObservation Observe(const DetectedMarker& d, const Eigen::Vector3d& cent
   }
   o.range_sigma_mm = MeanSigmaMm(ranges, options.range_sigma_floor_mm);
   o.lateral_sigma_mm = options.lateral_sigma_px * d.pixel_pitch_rad * o.range_mm;
+  if (d.damage.Any()) o.lateral_sigma_mm = std::max(o.lateral_sigma_mm, damaged_lateral_sigma_mm);
   return o;
 }
 
 }  // namespace
+
+double MeanSigmaMm(std::vector<double>& values, double floor_mm) {
+  if (values.size() < 2) return std::max(floor_mm, 1.0);
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  const double median = *mid;
+  for (double& v : values) v = std::abs(v - median);
+  std::nth_element(values.begin(), mid, values.end());
+  return std::max(floor_mm, 1.4826 * *mid / std::sqrt(static_cast<double>(values.size())));
+}
 
 void PoseRefinementOptions::Check() const {
   Require(lateral_sigma_px > 0.0, "PoseRefinementOptions::lateral_sigma_px must be > 0");
@@ -105,7 +107,8 @@ std::optional<Rigid3d> RefineToolPose(std::span<const DetectedMarker> detections
     for (const int s : marker_detection) {
       if (s < 0) continue;
       const auto i = static_cast<std::size_t>(s);
-      observations.push_back(Observe(detections[i], centres[i], normal, options));
+      observations.push_back(
+          Observe(detections[i], centres[i], normal, 0.5 * tool.marker_diameter_mm, options));
     }
     const RayPoseResult refined = EstimatePoseFromRaysAndRanges(markers, observations, pose);
     if (!refined.converged) return std::nullopt;

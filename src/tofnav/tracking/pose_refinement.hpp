@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "tofnav/core/point_cloud.hpp"
 #include "tofnav/core/rigid3d.hpp"
@@ -31,10 +32,15 @@ struct PoseRefinementOptions {
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
 
+/// 1.4826 MAD of `values` / sqrt(n), the sigma of their mean, at least `floor_mm` (and at least
+/// max(floor_mm, 1) for fewer than two values). Reorders the values.
+double MeanSigmaMm(std::vector<double>& values, double floor_mm);
+
 /// The refined ahat_from_tool of a tool matched to `detections` (`marker_detection`: per tool
 /// marker, an index into the detections or -1), starting from `initial_ahat_from_tool`;
 /// `centres` are the detections' centres for this tool (marker_centre.hpp). nullopt when a
-/// detection lacks a pixel pitch (hand-made) or the fit does not converge.
+/// detection lacks a pixel pitch (hand-made) or the fit does not converge. A damaged detection
+/// (MarkerDamage::Any) enters with its lateral sigma raised to the marker radius.
 std::optional<Rigid3d> RefineToolPose(std::span<const DetectedMarker> detections,
                                       std::span<const int> marker_detection,
                                       const ToolGeometry& tool, const Points3d& centres,
