@@ -33,11 +33,9 @@ std::optional<Eigen::Vector3d> ToolPlaneNormal(const Points3d& markers) {
 
 // Range and sigma of one marker: with `normal` (a flat disc's normal in ahat), each core pixel
 // point t u meets the marker ray r in the disc plane at range t (n . u) / (n . r).
-// A damaged marker (occluded, near another blob) keeps its range but its lateral sigma is raised
-// to `damaged_lateral_sigma_mm`: the visible part's centroid is off its centre.
 RayRangeObservation Observe(const DetectedMarker& d, const Eigen::Vector3d& centre,
                             const std::optional<Eigen::Vector3d>& normal,
-                            double damaged_lateral_sigma_mm, const PoseRefinementOptions& options) {
+                            const PoseRefinementOptions& options) {
   RayRangeObservation o;
   o.ray_in_ahat = d.ray_in_ahat;
   o.range_mm = centre.norm();
@@ -59,7 +57,6 @@ RayRangeObservation Observe(const DetectedMarker& d, const Eigen::Vector3d& cent
   }
   o.range_sigma_mm = MeanSigmaMm(ranges, options.range_sigma_floor_mm);
   o.lateral_sigma_mm = options.lateral_sigma_px * d.pixel_pitch_rad * o.range_mm;
-  if (d.damage.Any()) o.lateral_sigma_mm = std::max(o.lateral_sigma_mm, damaged_lateral_sigma_mm);
   return o;
 }
 
@@ -107,8 +104,7 @@ std::optional<Rigid3d> RefineToolPose(std::span<const DetectedMarker> detections
     for (const int s : marker_detection) {
       if (s < 0) continue;
       const auto i = static_cast<std::size_t>(s);
-      observations.push_back(
-          Observe(detections[i], centres[i], normal, 0.5 * tool.marker_diameter_mm, options));
+      observations.push_back(Observe(detections[i], centres[i], normal, options));
     }
     const RayPoseResult refined = EstimatePoseFromRaysAndRanges(markers, observations, pose);
     if (!refined.converged) return std::nullopt;

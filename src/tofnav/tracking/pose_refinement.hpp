@@ -39,8 +39,7 @@ double MeanSigmaMm(std::vector<double>& values, double floor_mm);
 /// The refined ahat_from_tool of a tool matched to `detections` (`marker_detection`: per tool
 /// marker, an index into the detections or -1), starting from `initial_ahat_from_tool`;
 /// `centres` are the detections' centres for this tool (marker_centre.hpp). nullopt when a
-/// detection lacks a pixel pitch (hand-made) or the fit does not converge. A damaged detection
-/// (MarkerDamage::Any) enters with its lateral sigma raised to the marker radius.
+/// detection lacks a pixel pitch (hand-made) or the fit does not converge.
 std::optional<Rigid3d> RefineToolPose(std::span<const DetectedMarker> detections,
                                       std::span<const int> marker_detection,
                                       const ToolGeometry& tool, const Points3d& centres,

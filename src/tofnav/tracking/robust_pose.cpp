@@ -44,7 +44,6 @@ class Fitter {
         continue;
       }
       s.lateral_mm = refinement.lateral_sigma_px * d.pixel_pitch_rad * Centre(k).norm();
-      if (d.damage.Any()) s.lateral_mm = std::max(s.lateral_mm, 0.5 * tool.marker_diameter_mm);
       ranges.clear();
       for (const CoreSample& c : d.core) ranges.push_back(c.range_mm);
       s.range_mm = MeanSigmaMm(ranges, options.range_sigma_floor_mm);
@@ -106,8 +105,8 @@ class Fitter {
   std::vector<Sigmas> sigmas_;
 };
 
-// Damaged markers out when max(3, min_visible) whole ones remain, else in with their lateral
-// sigma raised (Fitter, RefineToolPose).
+// Damaged markers out when max(3, min_visible) whole ones remain, else in as they are (the
+// residual check may still drop one).
 std::vector<MarkerUse> InitialUse(std::span<const DetectedMarker> detections,
                                   std::span<const int> marker_detection, int needed,
                                   bool drop_damaged) {

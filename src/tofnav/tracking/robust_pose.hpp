@@ -18,8 +18,8 @@ namespace tofnav {
 /// How one tool marker entered the frame's pose.
 enum class MarkerUse {
   kUsed,                // matched and whole: in the pose
-  kUsedDamaged,         // matched, occluded or near another blob, in the pose (too few whole
-                        // markers to leave it out) with its lateral sigma raised to its radius
+  kUsedDamaged,         // matched, occluded or near another blob, in the pose as it is: too few
+                        // whole markers to leave it out (the residual check may still drop it)
   kUnseen,              // no detection matched it (hidden, out of view, or too faint)
   kDroppedOccluded,     // matched, but its rim borders something in front of it: left out
   kDroppedNearBlob,     // matched, but another blob touches it: left out
