@@ -59,27 +59,39 @@ ToolGeometry ReadToolFile(const std::filesystem::path& path) {
   return ext == ".rom" ? ReadNdiRom(path) : ReadToolJson(path);
 }
 
-void ForEachFrameMarkers(
+void ForEachFrameDetections(
     const MarkerSource& source, const MarkerDetectionOptions& options,
-    const std::function<void(std::size_t, const AhatFrame&, std::vector<DetectedMarker>&)>& sink,
+    const std::function<void(std::size_t, const AhatFrame&, MarkerDetectionResult&)>& sink,
     const std::function<void(std::size_t, std::size_t)>& progress) {
   std::vector<AhatFrame> frames;
-  std::vector<std::vector<DetectedMarker>> markers;
+  std::vector<MarkerDetectionResult> detections;
   for (std::size_t first = 0; first < source.frames; first += kBatchFrames) {
     const std::size_t count = std::min(kBatchFrames, source.frames - first);
     frames.clear();
     for (std::size_t i = 0; i < count; ++i)
       frames.push_back(source.recording->ReadFrame(first + i));
-    markers.assign(count, {});
+    detections.assign(count, {});
     ParallelFor(0, static_cast<std::int64_t>(count), [&](std::int64_t i) {
       const auto k = static_cast<std::size_t>(i);
-      markers[k] = LocateMarkers(frames[k], *source.camera, options).markers;
+      detections[k] = LocateMarkers(frames[k], *source.camera, options);
     });
     for (std::size_t i = 0; i < count; ++i) {
-      sink(first + i, frames[i], markers[i]);
+      sink(first + i, frames[i], detections[i]);
       if (progress) progress(first + i + 1, source.frames);
     }
   }
+}
+
+void ForEachFrameMarkers(
+    const MarkerSource& source, const MarkerDetectionOptions& options,
+    const std::function<void(std::size_t, const AhatFrame&, std::vector<DetectedMarker>&)>& sink,
+    const std::function<void(std::size_t, std::size_t)>& progress) {
+  ForEachFrameDetections(
+      source, options,
+      [&](std::size_t index, const AhatFrame& frame, MarkerDetectionResult& detection) {
+        sink(index, frame, detection.markers);
+      },
+      progress);
 }
 
 }  // namespace tofnav

@@ -42,7 +42,13 @@ MarkerSource OpenMarkerSource(const MarkerSourceArgs& args);
 ToolGeometry ReadToolFile(const std::filesystem::path& path);
 
 /// Reads frames 0 .. source.frames - 1 in order, detects markers in parallel batches, and calls
-/// sink(index, frame, markers) in frame order; progress(done, total) after each frame.
+/// sink(index, frame, detection) in frame order; progress(done, total) after each frame.
+void ForEachFrameDetections(
+    const MarkerSource& source, const MarkerDetectionOptions& options,
+    const std::function<void(std::size_t, const AhatFrame&, MarkerDetectionResult&)>& sink,
+    const std::function<void(std::size_t, std::size_t)>& progress);
+
+/// ForEachFrameDetections with the markers only: sink(index, frame, markers).
 void ForEachFrameMarkers(
     const MarkerSource& source, const MarkerDetectionOptions& options,
     const std::function<void(std::size_t, const AhatFrame&, std::vector<DetectedMarker>&)>& sink,

@@ -21,7 +21,7 @@ ToolPoseRecord Record(std::size_t index, const AhatFrame& frame, const ToolGeome
   r.marker_count = static_cast<int>(tool.markers_in_tool.size());
   r.ahat_from_tool = tracked.measurement.ahat_from_tool;
   if (r.ahat_from_tool) {
-    r.markers_used = tracked.measurement.visible_markers;
+    r.markers_used = tracked.measurement.used_markers;
     r.fre_mm = tracked.measurement.fre_rms_mm;
   }
   r.filtered_ahat_from_tool = tracked.filtered_ahat_from_tool;
@@ -30,6 +30,23 @@ ToolPoseRecord Record(std::size_t index, const AhatFrame& frame, const ToolGeome
     r.world_from_tool = *frame.world_from_rig * rig_from_ahat * *r.best_ahat_from_tool();
   }
   return r;
+}
+
+// Adds one frame's marker uses of a tool to its tally.
+void Tally(const TrackedTool& tracked, ToolMarkerDrops& drops) {
+  const ToolPoseResult& m = tracked.measurement;
+  if (!m.ahat_from_tool) return;
+  ++drops.posed_frames;
+  if (!m.outliers_checked) ++drops.unchecked_frames;
+  drops.per_marker.resize(m.marker_use.size());
+  bool dropped = false;
+  for (std::size_t k = 0; k < m.marker_use.size(); ++k) {
+    const MarkerUse use = m.marker_use[k];
+    if (use == MarkerUse::kUsed) continue;
+    ++drops.per_marker[k][use];
+    dropped = dropped || (!InPose(use) && use != MarkerUse::kUnseen);
+  }
+  if (dropped) ++drops.frames_with_drops;
 }
 
 std::optional<Rigid3d> WorldFromAhat(const AhatFrame& frame, const AhatCamera& camera) {
@@ -64,15 +81,21 @@ std::vector<ToolPoseRecord> TrackTools(const MarkerSource& source,
                                        const std::vector<ToolGeometry>& tools,
                                        const ToolTrackerOptions& options,
                                        const MarkerRangeModel& marker_range,
-                                       const Progress& progress) {
+                                       const Progress& progress, TrackingDrops* drops) {
   ToolTracker tracker(tools, options);
   std::vector<ToolPoseRecord> records;
-  ForEachFrameMarkers(
+  if (drops) drops->tools.assign(tools.size(), {});
+  ForEachFrameDetections(
       source, detection,
-      [&](std::size_t index, const AhatFrame& frame, std::vector<DetectedMarker>& markers) {
+      [&](std::size_t index, const AhatFrame& frame, MarkerDetectionResult& detected) {
+        std::vector<DetectedMarker>& markers = detected.markers;
         if (!marker_range.empty()) markers = CorrectMarkerRanges(std::move(markers), marker_range);
-        const TrackingFrame tracked =
-            tracker.Track(markers, frame.timestamp_s(), WorldFromAhat(frame, *source.camera));
+        const TrackingFrame tracked = tracker.Track(
+            markers, frame.timestamp_s(), WorldFromAhat(frame, *source.camera), detected.dropped);
+        if (drops) {
+          for (const DroppedBlob& b : detected.dropped) ++drops->blobs[b.reason];
+          for (std::size_t t = 0; t < tools.size(); ++t) Tally(tracked.tools[t], drops->tools[t]);
+        }
         for (std::size_t t = 0; t < tools.size(); ++t) {
           records.push_back(
               Record(index, frame, tools[t], tracked.tools[t], source.camera->rig_from_ahat()));

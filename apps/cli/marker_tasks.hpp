@@ -2,7 +2,9 @@
 // Shared by track, fit-marker-error and demo: tool poses of a recording, stage range errors.
 #pragma once
 
+#include <cstdint>
 #include <functional>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,14 +19,30 @@ namespace tofnav {
 
 using Progress = std::function<void(std::size_t, std::size_t)>;
 
+/// Markers of one tool left out of its poses over a recording (docs/tracking.md section 6).
+struct ToolMarkerDrops {
+  std::int64_t posed_frames = 0;
+  std::int64_t frames_with_drops = 0;  // posed frames with a marker dropped (not just unseen)
+  std::int64_t unchecked_frames = 0;   // posed from markers too few to check for an outlier
+  /// Per tool marker: posed frames in which it was not kUsed, by MarkerUse.
+  std::vector<std::map<MarkerUse, std::int64_t>> per_marker;
+};
+
+/// What TrackTools left out, per tool, and the blobs detection dropped, by reason (all frames).
+struct TrackingDrops {
+  std::vector<ToolMarkerDrops> tools;
+  std::map<BlobDropReason, std::int64_t> blobs;
+};
+
 /// One record per frame and tool (docs/tracking.md section 3): markers detected, f_rf applied to
-/// their ranges when `marker_range` is not empty, tracked by one ToolTracker.
+/// their ranges when `marker_range` is not empty, tracked by one ToolTracker. Counts the markers
+/// left out into `drops` when given.
 std::vector<ToolPoseRecord> TrackTools(const MarkerSource& source,
                                        const MarkerDetectionOptions& detection,
                                        const std::vector<ToolGeometry>& tools,
                                        const ToolTrackerOptions& options,
                                        const MarkerRangeModel& marker_range,
-                                       const Progress& progress);
+                                       const Progress& progress, TrackingDrops* drops = nullptr);
 
 /// One stage run of a recording (split where the structure jumps).
 struct StageRun {

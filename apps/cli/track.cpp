@@ -25,6 +25,57 @@ double Median(std::vector<double> v) {
   return v[v.size() / 2];
 }
 
+// The markers a tool's poses left out (docs/tracking.md section 6): per marker, posed frames in
+// which it was dropped (by reason), used although damaged, or unseen.
+nlohmann::ordered_json DropsJson(const ToolMarkerDrops& drops, std::size_t marker_count) {
+  nlohmann::ordered_json j{{"posed_frames", drops.posed_frames},
+                           {"frames_with_drops", drops.frames_with_drops},
+                           {"observations_dropped", 0},
+                           {"unchecked_frames", drops.unchecked_frames},
+                           {"markers", nlohmann::ordered_json::array()}};
+  std::int64_t dropped_total = 0;
+  for (std::size_t k = 0; k < marker_count; ++k) {
+    nlohmann::ordered_json marker{{"marker", k},
+                                  {"used_damaged", 0},
+                                  {"unseen", 0},
+                                  {"dropped", nlohmann::ordered_json::object()}};
+    if (k < drops.per_marker.size()) {
+      for (const auto& [use, n] : drops.per_marker[k]) {
+        if (use == MarkerUse::kUsedDamaged || use == MarkerUse::kUnseen) {
+          marker[ToString(use)] = n;
+        } else {
+          marker["dropped"][ToString(use)] = n;
+          dropped_total += n;
+        }
+      }
+    }
+    j["markers"].push_back(marker);
+  }
+  j["observations_dropped"] = dropped_total;
+  return j;
+}
+
+// "  left out: marker 0 occluded 3, outlier 1; marker 2 merged 1 (in 4 of 90 posed frames)".
+void PrintDrops(const nlohmann::ordered_json& drops) {
+  std::cout << "    markers left out in " << drops["frames_with_drops"].get<std::int64_t>()
+            << " of " << drops["posed_frames"].get<std::int64_t>() << " posed frames ("
+            << drops["observations_dropped"].get<std::int64_t>() << " observations)";
+  const char* separator = ": ";
+  for (const auto& marker : drops["markers"]) {
+    if (marker["dropped"].empty()) continue;
+    std::cout << separator << "marker " << marker["marker"].get<std::size_t>();
+    for (const auto& [reason, n] : marker["dropped"].items()) {
+      std::cout << " " << reason << " " << n.get<std::int64_t>();
+    }
+    separator = "; ";
+  }
+  std::cout << "\n";
+  if (drops["unchecked_frames"].get<std::int64_t>() > 0) {
+    std::cout << "    " << drops["unchecked_frames"].get<std::int64_t>()
+              << " posed frames had too few markers to check for a wrong one\n";
+  }
+}
+
 }  // namespace
 
 int RunTrack(int argc, char** argv) {
@@ -67,9 +118,10 @@ int RunTrack(int argc, char** argv) {
   const MarkerSource source = OpenMarkerSource(source_args);
   ProgressBar progress("track", quiet || json);
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<ToolPoseRecord> records =
-      TrackTools(source, source_args.detection, tools, options, model,
-                 [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+  TrackingDrops drops;
+  const std::vector<ToolPoseRecord> records = TrackTools(
+      source, source_args.detection, tools, options, model,
+      [&](std::size_t done, std::size_t total) { progress.Update(done, total); }, &drops);
   std::vector<std::map<ToolStatus, std::int64_t>> counts(tools.size());
   std::vector<std::vector<double>> fre(tools.size());
   for (std::size_t i = 0; i < records.size(); ++i) {
@@ -87,13 +139,16 @@ int RunTrack(int argc, char** argv) {
                                  {"marker_error", !model.empty()},
                                  {"filter", !no_filter},
                                  {"elapsed_s", elapsed_s},
+                                 {"dropped_blobs", nlohmann::ordered_json::object()},
                                  {"tools", nlohmann::ordered_json::array()}};
+  for (const auto& [reason, n] : drops.blobs) summary["dropped_blobs"][ToString(reason)] = n;
   for (std::size_t t = 0; t < tools.size(); ++t) {
     nlohmann::ordered_json tool{{"name", tools[t].name},
                                 {"posed_frames", static_cast<std::int64_t>(fre[t].size())},
                                 {"median_fre_mm", Median(fre[t])},
                                 {"status", nlohmann::ordered_json::object()}};
     for (const auto& [status, n] : counts[t]) tool["status"][ToString(status)] = n;
+    tool["marker_drops"] = DropsJson(drops.tools[t], tools[t].markers_in_tool.size());
     summary["tools"].push_back(tool);
   }
   if (json) {
@@ -107,6 +162,14 @@ int RunTrack(int argc, char** argv) {
               << tool["posed_frames"].get<std::int64_t>() << " frames, median FRE "
               << tool["median_fre_mm"].get<double>() << " mm;";
     for (const auto& [status, n] : tool["status"].items()) std::cout << " " << status << " " << n;
+    std::cout << "\n";
+    PrintDrops(tool["marker_drops"]);
+  }
+  if (!summary["dropped_blobs"].empty()) {
+    std::cout << "  blobs dropped by detection (all frames):";
+    for (const auto& [reason, n] : summary["dropped_blobs"].items()) {
+      std::cout << " " << reason << " " << n.get<std::int64_t>();
+    }
     std::cout << "\n";
   }
   return EXIT_SUCCESS;

@@ -14,6 +14,7 @@
 #include "tofnav/core/require.hpp"
 #include "tofnav/markers/bright_blobs.hpp"
 #include "tofnav/markers/marker_centre.hpp"
+#include "tofnav/markers/marker_damage.hpp"
 
 namespace tofnav {
 namespace {
@@ -77,9 +78,11 @@ class BlobMeasurer {
                const MarkerDetectionOptions& options, double threshold)
       : frame_(frame), camera_(camera), options_(options), threshold_(threshold) {}
 
-  // The marker of one blob, or nullopt with the reason counted.
+  // The marker of one blob, or nullopt with the reason counted (and border and merged blobs
+  // listed in result.dropped).
   std::optional<DetectedMarker> Measure(const BrightBlobs& blobs, const BrightBlob& blob,
-                                        MarkerRejections& rejected) {
+                                        MarkerDetectionResult& result) {
+    MarkerRejections& rejected = result.rejected;
     const std::span<const PixelRun> runs(blobs.runs.data() + blob.first_run,
                                          static_cast<std::size_t>(blob.run_count));
     const double seed = options_.ab_seed_threshold > 0.0 ? options_.ab_seed_threshold : threshold_;
@@ -92,8 +95,9 @@ class BlobMeasurer {
       return std::nullopt;
     }
     if (blob.u_min == 0 || blob.v_min == 0 || blob.u_max == frame_.ab.width() - 1 ||
-        blob.v_max == frame_.ab.height() - 1) {
+        blob.v_max == frame_.ab.height() - 1 || TouchesFieldEdge(frame_, camera_, runs)) {
       ++rejected.border;
+      result.dropped.push_back(Dropped(BlobDropReason::kImageBorder, runs, blob.area_px));
       return std::nullopt;
     }
     DetectedMarker marker;
@@ -132,6 +136,15 @@ class BlobMeasurer {
       ++rejected.size_range;
       return std::nullopt;
     }
+    const double pitch_mm = marker.pixel_pitch_rad * marker.surface_range_mm;
+    if (MeasureBlobShape(runs).length_px >
+        options_.max_marker_diameter_mm / pitch_mm + options_.merged_margin_px) {
+      ++rejected.merged;
+      result.dropped.push_back(Dropped(BlobDropReason::kMerged, runs, blob.area_px));
+      return std::nullopt;
+    }
+    marker.damage =
+        AssessRing(frame_, blob, runs, threshold_, marker.surface_range_mm, pitch_mm, options_);
     return marker;
   }
 
@@ -181,6 +194,22 @@ class BlobMeasurer {
     }
   }
 
+  // A dropped blob's mean pixel, ray and angular radius (of a disc of its area).
+  DroppedBlob Dropped(BlobDropReason reason, std::span<const PixelRun> runs, int area_px) const {
+    DroppedBlob d;
+    d.reason = reason;
+    d.pixel = MeasureBlobShape(runs).mean;
+    const std::optional<Eigen::Vector3d> ray = camera_.Ray(d.pixel);
+    const std::optional<Eigen::Vector2d> focal =
+        LocalFocalPx(camera_, static_cast<int>(std::lround(d.pixel.x())),
+                     static_cast<int>(std::lround(d.pixel.y())));
+    if (ray && focal) {
+      d.ray_in_ahat = ray->normalized();
+      d.radius_rad = std::sqrt(area_px / std::numbers::pi / focal->prod());
+    }
+    return d;
+  }
+
   // Area against pi/4 (D/R)^2 f_u f_v for the min and max diameters (tracking.md 6.2 wrap check).
   bool SizeMatchesRange(const DetectedMarker& marker) const {
     const double pitch_mm = marker.pixel_pitch_rad * marker.surface_range_mm;
@@ -217,6 +246,22 @@ void MarkerDetectionOptions::Check() const {
   Require(core_ab_fraction >= 0.0 && core_ab_fraction <= 1.0,
           "MarkerDetectionOptions::core_ab_fraction must be in [0, 1]");
   Require(min_range_px >= 1, "MarkerDetectionOptions::min_range_px must be >= 1");
+  Require(merged_margin_px >= 0.0, "MarkerDetectionOptions::merged_margin_px must be >= 0");
+  Require(near_blob_gap_px >= 0 && min_occluder_px >= 1,
+          "MarkerDetectionOptions: near_blob_gap_px must be >= 0 and min_occluder_px >= 1");
+  Require(occluder_ring_inner_px >= 1 && occluder_ring_outer_px >= occluder_ring_inner_px,
+          "MarkerDetectionOptions: need 1 <= occluder_ring_inner_px <= occluder_ring_outer_px");
+  Require(occluder_margin_mm >= 0.0, "MarkerDetectionOptions::occluder_margin_mm must be >= 0");
+}
+
+const char* ToString(BlobDropReason reason) {
+  switch (reason) {
+    case BlobDropReason::kImageBorder:
+      return "image_border";
+    case BlobDropReason::kMerged:
+      return "merged";
+  }
+  return "unknown";
 }
 
 MarkerDetectionResult LocateMarkers(const AhatFrame& frame, const AhatCamera& camera,
@@ -232,7 +277,7 @@ MarkerDetectionResult LocateMarkers(const AhatFrame& frame, const AhatCamera& ca
   result.blob_count = static_cast<int>(blobs.blobs.size());
   BlobMeasurer measurer(frame, camera, options, result.ab_threshold);
   for (const BrightBlob& blob : blobs.blobs) {
-    if (std::optional<DetectedMarker> marker = measurer.Measure(blobs, blob, result.rejected)) {
+    if (std::optional<DetectedMarker> marker = measurer.Measure(blobs, blob, result)) {
       result.markers.push_back(*marker);
     }
   }

@@ -32,7 +32,34 @@ struct MarkerDetectionOptions {
   /// (dimensionless); the AB fall-off at the rim marks mixed and grazing pixels.
   double core_ab_fraction = 0.7;
   int min_range_px = 3;  // valid range pixels a marker needs (core, else the whole blob)
-  void Check() const;    // throws std::invalid_argument naming the bad field
+  /// Damage checks (docs/tracking.md section 6). A blob is `merged` when its length, 4 sqrt of
+  /// the largest second moment of its pixels (a uniform disc's diameter), exceeds the
+  /// max_marker_diameter_mm at its range by more than this [px]: no single marker is that long.
+  double merged_margin_px = 2.0;
+  /// A blob is `near_blob` when another blob's pixel lies within this many pixels of its own
+  /// (Chebyshev): the neighbour's spill and mixed rim pixels bias its centroid.
+  int near_blob_gap_px = 2;
+  /// A ring pixel (Chebyshev distance d from the blob in occluder_ring_inner_px ..
+  /// occluder_ring_outer_px) is an occluder when its range is shorter than the marker's surface
+  /// range by more than occluder_margin_mm + d * pixel pitch * tan(55 deg) [mm]: something in
+  /// front, not the marker's own tool plate (tilted up to the tape's 55 deg cut-off, it rises by at
+  /// most that much over d pixels), nor range noise. Pixels 1-2 px from the blob hold some of the
+  /// marker's light: a phasor mix of it and a far background reads any range, shorter ones too
+  /// (the 1055 mm ambiguity), so they are not looked at.
+  double occluder_margin_mm = 10.0;
+  int occluder_ring_inner_px = 3;
+  int occluder_ring_outer_px = 4;
+  int min_occluder_px = 2;  // occluder pixels that make a blob `occluded` (one may be a flier)
+  void Check() const;       // throws std::invalid_argument naming the bad field
+};
+
+/// Damage of a kept marker (docs/tracking.md section 6): the blob may not be the whole marker.
+struct MarkerDamage {
+  bool occluded = false;   // part of its rim borders pixels clearly nearer (a hand, a rod)
+  bool near_blob = false;  // another blob within near_blob_gap_px
+  int occluder_px = 0;     // ring pixels clearly nearer than the marker
+  int ring_px = 0;         // ring pixels (occluder ring) with a valid range
+  bool Any() const { return occluded || near_blob; }
 };
 
 /// One core pixel of a marker: its measured range, the angle of its ray from the marker ray and
@@ -61,13 +88,30 @@ struct DetectedMarker {
   double pixel_pitch_rad = 0.0;  // angle one pixel spans at the marker, 1 / sqrt(f_u f_v)
   int area_px = 0;               // blob pixels at or above the threshold
   double ab_peak = 0.0;          // counts
+  MarkerDamage damage;           // usable, but perhaps not whole: the tracker decides
+};
+
+/// Why a blob was dropped as a marker although it looked like one (docs/tracking.md section 6).
+enum class BlobDropReason {
+  kImageBorder,  // cut by the image border or the edge of the lit field: centroid biased
+  kMerged,       // two or more markers fused: its centroid lies between them, its range mixes
+};
+const char* ToString(BlobDropReason reason);
+
+/// A dropped blob, so that a tracker can say why a tool marker there was not used.
+struct DroppedBlob {
+  BlobDropReason reason = BlobDropReason::kImageBorder;
+  Eigen::Vector2d pixel = Eigen::Vector2d::Zero();        // mean of its pixels
+  Eigen::Vector3d ray_in_ahat = Eigen::Vector3d::Zero();  // unit ray at `pixel`; zero if invalid
+  double radius_rad = 0.0;  // angular radius of a disc of its area (zero without a ray)
 };
 
 /// Counts of blobs dropped, by reason.
 struct MarkerRejections {
   int area = 0;         // outside [min_area_px, max_area_px]
   int faint = 0;        // peak below the seed threshold
-  int border = 0;       // touches the image border
+  int border = 0;       // touches the image border or the field's edge (also in `dropped`)
+  int merged = 0;       // longer than one marker (also in MarkerDetectionResult::dropped)
   int invalid_ray = 0;  // the ray table is invalid at the centroid
   int no_depth = 0;     // fewer than min_range_px valid ranges
   int size_range = 0;   // area inconsistent with the range (wrapped or not a marker)
@@ -78,11 +122,13 @@ struct MarkerDetectionResult {
   double ab_threshold = 0.0;            // the threshold used [AB counts]
   int blob_count = 0;                   // connected components before the gates
   MarkerRejections rejected;
+  std::vector<DroppedBlob> dropped;  // border and merged blobs, in raster order
 };
 
 /// Finds retro-reflective markers: AB threshold, 8-connected components, area and size gates,
 /// AB-weighted sub-pixel centroid, bilinear ray, robust range over the core (ranges of 0 and
-/// >= kAhatInvalidRange are invalid). Never throws on frame content; throws
+/// >= kAhatInvalidRange are invalid), damage flags (border and merged blobs dropped, occluded
+/// and near ones flagged; docs/tracking.md section 6). Never throws on frame content; throws
 /// std::invalid_argument on bad options or when the frame's images do not match the camera.
 MarkerDetectionResult LocateMarkers(const AhatFrame& frame, const AhatCamera& camera,
                                     const MarkerDetectionOptions& options = {});

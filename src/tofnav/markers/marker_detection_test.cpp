@@ -136,6 +136,9 @@ TEST(LocateMarkers, FindsTheSubPixelCentroidAndRejectsBorderBlobs) {
               1e-12);
   EXPECT_DOUBLE_EQ(r.markers[0].surface_range_mm, 400.0);
   EXPECT_EQ(r.rejected.border, 1);
+  ASSERT_EQ(r.dropped.size(), 1u);
+  EXPECT_EQ(r.dropped[0].reason, BlobDropReason::kImageBorder);
+  EXPECT_NEAR(r.dropped[0].pixel.y(), 200.0, 0.5);  // symmetric about its row
 }
 
 TEST(LocateMarkers, AdaptiveThresholdSplitsSpotsJoinedByAGlow) {
@@ -146,7 +149,8 @@ TEST(LocateMarkers, AdaptiveThresholdSplitsSpotsJoinedByAGlow) {
   AddSpot(frame, 248.0, 250.0, 30000.0, 1.5);
   AddSpot(frame, 260.0, 251.0, 30000.0, 1.5);
   MarkerDetectionOptions options;
-  options.max_marker_diameter_mm = 40.0;  // let the joined glow pass the size gate
+  // Let the joined glow (30 px long, ~45 mm at 400 mm) pass the size and merged gates.
+  options.max_marker_diameter_mm = 60.0;
   EXPECT_EQ(LocateMarkers(frame, TestCamera(), options).markers.size(), 1u);
   options.relative_threshold = 2.0;  // twice the bright background
   const MarkerDetectionResult adaptive = LocateMarkers(frame, TestCamera(), options);

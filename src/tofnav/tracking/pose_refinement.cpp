@@ -17,17 +17,6 @@ namespace {
 constexpr double kMaxPlanarityRmsMm = 1.0;  // a tool flatter than this carries its discs' plane
 constexpr double kMinPlaneCosine = 0.2;     // grazing views keep the face-on range
 
-// 1.4826 MAD of `values` / sqrt(n), at least `floor_mm` (reorders the values).
-double MeanSigmaMm(std::vector<double>& values, double floor_mm) {
-  if (values.size() < 2) return std::max(floor_mm, 1.0);
-  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
-  std::nth_element(values.begin(), mid, values.end());
-  const double median = *mid;
-  for (double& v : values) v = std::abs(v - median);
-  std::nth_element(values.begin(), mid, values.end());
-  return std::max(floor_mm, 1.4826 * *mid / std::sqrt(static_cast<double>(values.size())));
-}
-
 // Unit normal of a planar tool's markers in the tool frame, or nullopt when not planar.
 std::optional<Eigen::Vector3d> ToolPlaneNormal(const Points3d& markers) {
   Eigen::Vector3d mean = Eigen::Vector3d::Zero();
@@ -72,6 +61,16 @@ RayRangeObservation Observe(const DetectedMarker& d, const Eigen::Vector3d& cent
 }
 
 }  // namespace
+
+double MeanSigmaMm(std::vector<double>& values, double floor_mm) {
+  if (values.size() < 2) return std::max(floor_mm, 1.0);
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  const double median = *mid;
+  for (double& v : values) v = std::abs(v - median);
+  std::nth_element(values.begin(), mid, values.end());
+  return std::max(floor_mm, 1.4826 * *mid / std::sqrt(static_cast<double>(values.size())));
+}
 
 void PoseRefinementOptions::Check() const {
   Require(lateral_sigma_px > 0.0, "PoseRefinementOptions::lateral_sigma_px must be > 0");

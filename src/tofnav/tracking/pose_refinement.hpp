@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "tofnav/core/point_cloud.hpp"
 #include "tofnav/core/rigid3d.hpp"
@@ -30,6 +31,10 @@ struct PoseRefinementOptions {
   int passes = 2;      // refinements, each with the plane of the previous pose (disc_plane_ranges)
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
+
+/// 1.4826 MAD of `values` / sqrt(n), the sigma of their mean, at least `floor_mm` (and at least
+/// max(floor_mm, 1) for fewer than two values). Reorders the values.
+double MeanSigmaMm(std::vector<double>& values, double floor_mm);
 
 /// The refined ahat_from_tool of a tool matched to `detections` (`marker_detection`: per tool
 /// marker, an index into the detections or -1), starting from `initial_ahat_from_tool`;

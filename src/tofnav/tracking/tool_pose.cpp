@@ -29,25 +29,22 @@ bool Shares(const ToolCandidate& a, const ToolCandidate& b) {
   });
 }
 
-// Replaces a Kabsch pose by RefineToolPose's and recomputes the residuals: still distances from
-// the measured centres, so FRE keeps its meaning (and exceeds Kabsch's, its minimum).
-void Refine(std::span<const DetectedMarker> detections, const Points3d& centres,
-            const ToolGeometry& tool, const PoseRefinementOptions& options, ToolPoseResult& r) {
-  const std::optional<Rigid3d> refined =
-      RefineToolPose(detections, r.marker_detection, tool, centres, *r.ahat_from_tool, options);
-  if (!refined) return;
-  r.ahat_from_tool = *refined;
-  r.residuals_mm.clear();
-  double sum2 = 0.0;
-  for (std::size_t k = 0; k < r.marker_detection.size(); ++k) {
-    const int s = r.marker_detection[k];
-    if (s < 0) continue;
-    const double e =
-        (*refined * tool.markers_in_tool[k] - centres[static_cast<std::size_t>(s)]).norm();
-    r.residuals_mm.push_back(e);
-    sum2 += e * e;
-  }
-  r.fre_rms_mm = std::sqrt(sum2 / static_cast<double>(r.residuals_mm.size()));
+// Replaces the matched Kabsch pose by FitToolMarkers': the markers it should use, refined.
+void FitUsed(std::span<const DetectedMarker> detections, const Points3d& centres,
+             const ToolGeometry& tool, const ToolPoseOptions& options,
+             std::span<const DroppedBlob> dropped, ToolPoseResult& r) {
+  RobustPose fit = FitToolMarkers(detections, r.marker_detection, tool, centres, options.refinement,
+                                  options.robust);
+  ExplainUnseenMarkers(fit.ahat_from_tool, tool, dropped, fit.use);
+  r.ahat_from_tool = fit.ahat_from_tool;
+  r.marker_use = std::move(fit.use);
+  r.used_markers =
+      static_cast<int>(std::count_if(r.marker_use.begin(), r.marker_use.end(), InPose));
+  r.residuals_mm = std::move(fit.residuals_mm);
+  r.fre_rms_mm = fit.fre_rms_mm;
+  r.noise_chi2 = fit.chi2;
+  r.noise_chi2_limit = fit.chi2_limit;
+  r.outliers_checked = fit.outliers_checked;
 }
 
 class Arbiter {
@@ -55,6 +52,9 @@ class Arbiter {
   Arbiter(std::span<const Points3d> centres, std::span<const ToolGeometry> tools,
           std::span<const std::optional<Rigid3d>> predicted, const ToolPoseOptions& options)
       : tools_(tools), options_(options), results_(tools.size()), resolved_(tools.size(), false) {
+    for (std::size_t t = 0; t < tools.size(); ++t) {
+      results_[t].marker_use.assign(tools[t].markers_in_tool.size(), MarkerUse::kUnseen);
+    }
     detection_count_ = centres.empty() ? 0 : centres[0].size();
     used_.assign(detection_count_, false);
     for (std::size_t t = 0; t < tools.size(); ++t) {
@@ -149,6 +149,10 @@ class Arbiter {
     r.ahat_from_tool = c.fit.target_from_source;
     r.marker_detection = c.scene_index;
     r.visible_markers = c.visible;
+    r.used_markers = c.visible;
+    for (std::size_t k = 0; k < marker_count; ++k) {
+      if (c.scene_index[k] >= 0) r.marker_use[k] = MarkerUse::kUsed;
+    }
     r.fre_rms_mm = c.fit.fre_rms_mm;
     r.residuals_mm = c.fit.residuals_mm;
     for (const int s : c.scene_index) {
@@ -187,6 +191,7 @@ const char* ToString(ToolStatus status) {
 void ToolPoseOptions::Check() const {
   tolerance.Check();
   refinement.Check();
+  robust.Check();
   Require(max_fre_mm > 0.0, "ToolPoseOptions::max_fre_mm must be > 0");
   Require(occlusion_penalty_mm >= 0.0, "ToolPoseOptions::occlusion_penalty_mm must be >= 0");
   Require(prior_weight >= 0.0 && prior_cap_mm >= 0.0,
@@ -200,7 +205,7 @@ void ToolPoseOptions::Check() const {
 std::vector<ToolPoseResult> EstimateToolPoses(
     std::span<const DetectedMarker> detections, std::span<const ToolGeometry> tools,
     std::span<const std::optional<Rigid3d>> predicted_ahat_from_tool,
-    const ToolPoseOptions& options) {
+    const ToolPoseOptions& options, std::span<const DroppedBlob> dropped) {
   options.Check();
   Require(predicted_ahat_from_tool.empty() || predicted_ahat_from_tool.size() == tools.size(),
           "EstimateToolPoses: predicted_ahat_from_tool must be empty or one per tool");
@@ -212,12 +217,9 @@ std::vector<ToolPoseResult> EstimateToolPoses(
   }
   std::vector<ToolPoseResult> results =
       Arbiter(centres, tools, predicted_ahat_from_tool, options).Run();
-  if (options.refinement.enabled) {
-    for (std::size_t t = 0; t < tools.size(); ++t) {
-      if (results[t].ahat_from_tool) {
-        Refine(detections, centres[t], tools[t], options.refinement, results[t]);
-      }
-    }
+  for (std::size_t t = 0; t < tools.size(); ++t) {
+    if (results[t].ahat_from_tool)
+      FitUsed(detections, centres[t], tools[t], options, dropped, results[t]);
   }
   return results;
 }

@@ -12,6 +12,7 @@
 #include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/tracking/correspondence.hpp"
 #include "tofnav/tracking/pose_refinement.hpp"
+#include "tofnav/tracking/robust_pose.hpp"
 #include "tofnav/tracking/tool_geometry.hpp"
 
 namespace tofnav {
@@ -31,6 +32,8 @@ struct ToolPoseOptions {
   MatchTolerance tolerance;
   /// After matching, RefineToolPose (needs detections: EstimateToolPoses, not EstimateToolPose).
   PoseRefinementOptions refinement;
+  /// Which matched markers the pose uses: damaged ones out, outliers out (robust_pose.hpp).
+  RobustPoseOptions robust;
   double max_fre_mm = 1.0;            // default FRE acceptance (ToolGeometry::max_fre_mm overrides)
   double occlusion_penalty_mm = 0.5;  // score per unseen marker
   /// Temporal prior: score += prior_weight * min(mean marker distance from the predicted pose,
@@ -49,10 +52,19 @@ struct ToolPoseResult {
   ToolStatus status = ToolStatus::kOutOfView;
   std::optional<Rigid3d> ahat_from_tool;  // only for kOk and kPartiallyOccluded
   std::vector<int> marker_detection;      // per tool marker: index into the detections, -1 unseen
-  int visible_markers = 0;
+  int visible_markers = 0;                // tool markers matched
+  /// Per tool marker: in the pose, or why not (docs/tracking.md section 6); all kUnseen
+  /// without a pose.
+  std::vector<MarkerUse> marker_use;
+  int used_markers = 0;     // markers in the pose (InPose)
   double fre_rms_mm = 0.0;  // RMS of residuals_mm
-  /// |ahat_from_tool * m - centre| per matched marker, in tool marker order [mm]
+  /// |ahat_from_tool * m - centre| per marker in the pose, in tool marker order [mm]
   std::vector<double> residuals_mm;
+  /// Sum of the used markers' squared residuals in noise-model sigmas, and the limit the check
+  /// held it to (RobustPose); outliers_checked is false with 3 markers (they cannot be checked).
+  double noise_chi2 = 0.0;
+  double noise_chi2_limit = 0.0;
+  bool outliers_checked = false;
   int candidate_count = 0;  // candidates the search found for this tool
   /// Score gap to the best distinct alternative (infinity when there is none) [mm].
   double second_best_margin_mm = std::numeric_limits<double>::infinity();
@@ -61,12 +73,14 @@ struct ToolPoseResult {
 /// Matches every tool against one frame's detections (centres from each tool's own marker
 /// radius), scores candidates by FRE + occlusion penalty + temporal prior, assigns detections to
 /// tools greedily by score (each detection to at most one tool) and flags ambiguity instead of
-/// guessing. `predicted_ahat_from_tool` is empty or has one (optional) entry per tool. Calls
-/// Check() on the options and every tool (throws std::invalid_argument).
+/// guessing. `predicted_ahat_from_tool` is empty or has one (optional) entry per tool. Each pose
+/// is then fitted to the markers it should use (FitToolMarkers: damaged and inconsistent ones
+/// left out); an unseen marker on a `dropped` blob (MarkerDetectionResult::dropped) says so.
+/// Calls Check() on the options and every tool (throws std::invalid_argument).
 std::vector<ToolPoseResult> EstimateToolPoses(
     std::span<const DetectedMarker> detections, std::span<const ToolGeometry> tools,
     std::span<const std::optional<Rigid3d>> predicted_ahat_from_tool = {},
-    const ToolPoseOptions& options = {});
+    const ToolPoseOptions& options = {}, std::span<const DroppedBlob> dropped = {});
 
 /// One tool from marker centres already in `ahat` (e.g. after Eq. (2) and the radius).
 ToolPoseResult EstimateToolPose(std::span<const Eigen::Vector3d> centres_in_ahat,

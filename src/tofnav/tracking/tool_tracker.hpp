@@ -61,8 +61,11 @@ class ToolTracker {
   explicit ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptions& options = {});
 
   /// `world_from_ahat`: the camera pose of this frame when known (world_from_rig * rig_from_ahat).
+  /// `dropped`: the frame's dropped blobs (MarkerDetectionResult::dropped), to say why a tool
+  /// marker on one was not used.
   TrackingFrame Track(std::span<const DetectedMarker> detections, double timestamp_s,
-                      const std::optional<Rigid3d>& world_from_ahat = std::nullopt);
+                      const std::optional<Rigid3d>& world_from_ahat = std::nullopt,
+                      std::span<const DroppedBlob> dropped = {});
   const std::vector<ToolGeometry>& tools() const { return tools_; }
   void Reset();
 
