@@ -32,7 +32,7 @@ void PrintLeftOut(const DepthModelFitReport& r) {
             << " observations left out as not on the skin, " << r.marker_patches_screened_out
             << " with foreground around them\n";
   for (std::size_t i = 0; i < r.markers.size(); ++i) {
-    const MarkerUse& m = r.markers[i];
+    const StickerUse& m = r.markers[i];
     if (m.rejected == 0) continue;
     std::cout << "    marker " << i + 1 << " at (" << m.centre_mm[0] << ", " << m.centre_mm[1]
               << ", " << m.centre_mm[2] << ") mm: " << m.rejected << " of " << m.observations
@@ -150,7 +150,7 @@ int RunIdentify(int argc, char** argv) {
     for (const auto& [name, cost] : m.report.cross_validation) {
       out["cross_validation"][name] = cost;
     }
-    for (const MarkerUse& use : m.report.markers) {
+    for (const StickerUse& use : m.report.markers) {
       out["markers"].push_back({{"centre_mm", use.centre_mm},
                                 {"observations", use.observations},
                                 {"rejected", use.rejected}});

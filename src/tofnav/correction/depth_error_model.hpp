@@ -25,7 +25,7 @@ struct FrameResidual {
 };
 
 /// One physical marker (a sticker) across the identification's frames.
-struct MarkerUse {
+struct StickerUse {
   std::array<double, 3> centre_mm{};  // in `world` (in `ahat` when the frames have no rig pose)
   int observations = 0;               // frames in which its patch entered the fit
   int rejected = 0;                   // of those, left out as not on the skin (second fit)
@@ -41,7 +41,7 @@ struct DepthModelFitReport {
   int marker_patches_screened_out = 0;   // patches whose surroundings were foreground
   int marker_observations = 0;           // marker patches (a marker in a frame) in the first fit
   int marker_observations_rejected = 0;  // of those, left out as not on the skin (second fit)
-  std::vector<MarkerUse> markers;        // per physical marker
+  std::vector<StickerUse> markers;       // per physical marker
   int evaluations = 0;
   double initial_cost = 0.0;  // Eq. (7) at the start [mm^2]
   double final_cost = 0.0;    // Eq. (7) at the solution [mm^2]

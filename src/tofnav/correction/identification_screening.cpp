@@ -183,7 +183,7 @@ std::vector<IdentificationFrame> ScreenForeground(std::span<const Identification
 
 std::vector<std::vector<int>> GroupMarkerObservations(std::span<const IdentificationFrame> frames,
                                                       double radius_mm,
-                                                      std::vector<MarkerUse>& markers) {
+                                                      std::vector<StickerUse>& markers) {
   markers.clear();
   std::vector<Eigen::Vector3d> sums;
   std::vector<std::vector<int>> ids(frames.size());

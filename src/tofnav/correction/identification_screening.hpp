@@ -56,6 +56,6 @@ std::vector<IdentificationFrame> ScreenForeground(std::span<const Identification
 /// centres and observation counts; `rejected` left 0).
 std::vector<std::vector<int>> GroupMarkerObservations(std::span<const IdentificationFrame> frames,
                                                       double radius_mm,
-                                                      std::vector<MarkerUse>& markers);
+                                                      std::vector<StickerUse>& markers);
 
 }  // namespace tofnav

@@ -123,7 +123,7 @@ TEST(GroupMarkerObservations, OneStickerSeenFromEveryFrameIsOneMarker) {
   std::mt19937 rng(5);
   std::vector<IdentificationFrame> frames;
   for (int f = 0; f < 12; ++f) frames.push_back(Frame(f, false, rng));
-  std::vector<MarkerUse> markers;
+  std::vector<StickerUse> markers;
   const auto ids = GroupMarkerObservations(frames, 10.0, markers);
   ASSERT_EQ(markers.size(), 1u);
   EXPECT_EQ(markers[0].observations, 12);

@@ -100,7 +100,7 @@ Json ReportToJson(const DepthModelFitReport& r) {
                       {"markers", f.markers}});
   }
   Json markers = Json::array();
-  for (const MarkerUse& m : r.markers) {
+  for (const StickerUse& m : r.markers) {
     markers.push_back(
         {{"centre_mm", m.centre_mm}, {"observations", m.observations}, {"rejected", m.rejected}});
   }
@@ -159,7 +159,7 @@ DepthModelFitReport ReportFromJson(const Json& json) {
   num(json, "marker_observations_rejected", r.marker_observations_rejected);
   if (json.contains("markers") && json["markers"].is_array()) {
     for (const Json& m : json["markers"]) {
-      MarkerUse use;
+      StickerUse use;
       if (m.contains("centre_mm") && m["centre_mm"].is_array() && m["centre_mm"].size() == 3) {
         for (std::size_t i = 0; i < 3; ++i) {
           if (m["centre_mm"][i].is_number()) use.centre_mm[i] = m["centre_mm"][i].get<double>();

@@ -76,10 +76,20 @@ BlobShape MeasureBlobShape(std::span<const PixelRun> runs) {
   return shape;
 }
 
+// Fraction of the image's half-size within which the AHAT illumination is always lit.
+constexpr double kLitFieldInnerFraction = 0.8;
+
 bool TouchesFieldEdge(const AhatFrame& frame, const AhatCamera& camera,
                       std::span<const PixelRun> runs) {
+  // An unlit pixel is the edge of the lit field only towards the image's rim: nearer the centre
+  // it is a background beyond the range limit (an instrument held against the room), and a
+  // marker against it is whole (docs/tracking.md section 6).
+  const double cx = 0.5 * frame.ab.width(), cy = 0.5 * frame.ab.height();
+  const double inner_radius_px = kLitFieldInnerFraction * std::min(cx, cy);
   const auto outside = [&](int u, int v) {
     if (!frame.ab.Contains(u, v) || !camera.IsValid(u, v)) return true;
+    const double du = u - cx, dv = v - cy;
+    if (du * du + dv * dv < inner_radius_px * inner_radius_px) return false;
     const std::uint16_t range = frame.range_mm(u, v);
     return range == kOutsideIlluminationCode || (range == 0 && frame.ab(u, v) == 0);
   };
