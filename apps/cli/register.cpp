@@ -129,12 +129,12 @@ int RunRegister(int argc, char** argv) {
       ->expected(2);
   app.add_option("--guess", guess_path, "a tool_from_image transform file to start from");
   app.add_flag("--skin-ras", skin_ras, "the skin file is in RAS (tofnav skin --ras)");
-  app.add_option("--max-rmse", t.max_rmse_mm, "refuse above this RMSE [mm] (1.5)");
+  app.add_option("--max-rmse", t.max_rmse_mm, "refuse above this RMSE [mm] (0.8)");
   app.add_option("--min-inliers", t.min_inlier_fraction, "refuse below this inlier fraction (0.5)");
   app.add_option("--min-conditioning", t.min_rotation_conditioning,
                  "refuse below this rotation conditioning (0.005)");
   app.add_option("--max-tre", t.max_predicted_tre_mm, "refuse above this predicted TRE [mm] (1)");
-  app.add_option("--max-ambiguity", t.max_ambiguity, "refuse above this cost ratio (0.5)");
+  app.add_option("--max-ambiguity", t.max_ambiguity, "refuse above this cost ratio (0.7)");
   app.add_option("--max-fre", max_fre_mm, "paired points: refuse above this FRE [mm] (2)");
   app.add_flag("--force", force, "write the transform even when refused (status in the JSON)");
   app.add_flag("-q,--quiet", quiet, "no progress bar, no report");

@@ -16,7 +16,8 @@ namespace tofnav {
 
 /// Refusal thresholds: a registration failing any of them is refused, never returned as usable.
 struct RegistrationThresholds {
-  double max_rmse_mm = 1.5;                     // RMS point-to-plane residual of the inliers
+  /// RMS point-to-plane residual of the inliers; docs/registration.md says why 0.8 mm.
+  double max_rmse_mm = 0.8;
   double min_inlier_fraction = 0.5;             // of the reconstruction, within the finest ICP gate
   double min_rotation_conditioning = 0.005;     // PoseConditioning::rotation (sphere: ~0)
   double min_translation_conditioning = 0.005;  // PoseConditioning::translation (plane: ~0)
