@@ -128,7 +128,10 @@ TEST(RegisterSurface, RefusesFeaturelessEllipsoid) {
   EXPECT_THAT(r.quality.status,
               testing::AnyOf(RegistrationStatus::kIllConditioned, RegistrationStatus::kAmbiguous))
       << r.quality.message;
-  EXPECT_GT(r.quality.ambiguity, RegistrationThresholds().max_ambiguity);
+  // The turned pose fits nearly as well (0.59 measured; a featured phantom head reads 0.52 with
+  // a true TRE of 0.47 mm, docs/registration.md): ambiguity alone no longer refuses it, the
+  // conditioning does.
+  EXPECT_GT(r.quality.ambiguity, 0.5);
 }
 
 TEST(RegisterSurface, GuessSkipsCoarseAndFarGuessIsNoOverlap) {

@@ -24,7 +24,7 @@ struct RegistrationThresholds {
   double max_predicted_tre_mm = 1.0;            // at every given target
   /// Robust cost of the chosen pose over that of the best distinct alternative (0 = a clear
   /// winner, 1 = another pose fits as well): above this the surface is ambiguous.
-  double max_ambiguity = 0.5;
+  double max_ambiguity = 0.7;  // docs/registration.md says why
   /// Residual errors of a fused surface are correlated over a few millimetres (TSDF, depth
   /// bias): the TRE prediction counts one independent sample per cell of this size.
   double correlation_length_mm = 5.0;
