@@ -35,12 +35,14 @@ void ScaleDemoFrames(DemoContext& ctx, double scale) {
   const auto scaled = [&](double n, double floor) {
     return static_cast<std::int64_t>(std::max(floor, std::round(n * scale)));
   };
-  ctx.stage_frames = scaled(160.0, 80.0);    // four stage runs, >= 20 frames each
-  ctx.session_frames = scaled(600.0, 60.0);  // evd-usecase frames
+  constexpr double kSessionSlots = 600.0;  // evd-usecase frames at scale 1
+  ctx.stage_frames = scaled(160.0, 80.0);  // four stage runs, >= 20 frames each
+  ctx.session_frames = scaled(kSessionSlots, 60.0);
   // A shorter session keeps the whole headset motion (every n-th slot) rather than its first
   // seconds: identification and fusion need the views, not the frame rate (docs/suite.md).
   ctx.session_slot_stride = std::max<std::int64_t>(
-      1, static_cast<std::int64_t>(std::round(600.0 / static_cast<double>(ctx.session_frames))));
+      1, static_cast<std::int64_t>(
+             std::round(kSessionSlots / static_cast<double>(ctx.session_frames))));
   ctx.depth_eval_frames = static_cast<int>(scaled(24.0, 6.0));
 }
 

@@ -127,33 +127,22 @@ int RunIdentify(int argc, char** argv) {
 
   const DepthErrorModel& m = file.model;
   if (json) {
-    nlohmann::ordered_json out{
-        {"model", m.Name()},
-        {"c1_mm", m.c1_mm},
-        {"c2", m.c2},
-        {"c3_mm", m.c3_mm},
-        {"c4_mm", m.c4_mm},
-        {"costs", m.report.costs},
-        {"frames", m.report.frames_used},
-        {"frames_left_out", m.report.frames_left_out},
-        {"head_points_left_out", m.report.head_points_left_out},
-        {"marker_observations", m.report.marker_observations},
-        {"marker_observations_rejected", m.report.marker_observations_rejected},
-        {"marker_patches_screened_out", m.report.marker_patches_screened_out},
-        {"markers", nlohmann::ordered_json::array()},
-        {"initial_cost_mm2", m.report.initial_cost},
-        {"final_cost_mm2", m.report.final_cost},
-        {"seconds", m.report.seconds},
-        {"registration", registration_report},
-        {"cross_validation", nlohmann::ordered_json::object()},
-        {"out", out_path.string()}};
+    nlohmann::ordered_json out{{"model", m.Name()},
+                               {"c1_mm", m.c1_mm},
+                               {"c2", m.c2},
+                               {"c3_mm", m.c3_mm},
+                               {"c4_mm", m.c4_mm},
+                               {"costs", m.report.costs},
+                               {"frames", m.report.frames_used}};
+    out.update(LeftOutToJson(m.report));
+    out.update(nlohmann::ordered_json{{"initial_cost_mm2", m.report.initial_cost},
+                                      {"final_cost_mm2", m.report.final_cost},
+                                      {"seconds", m.report.seconds},
+                                      {"registration", registration_report},
+                                      {"cross_validation", nlohmann::ordered_json::object()},
+                                      {"out", out_path.string()}});
     for (const auto& [name, cost] : m.report.cross_validation) {
       out["cross_validation"][name] = cost;
-    }
-    for (const StickerUse& use : m.report.markers) {
-      out["markers"].push_back({{"centre_mm", use.centre_mm},
-                                {"observations", use.observations},
-                                {"rejected", use.rejected}});
     }
     std::cout << out.dump(2) << "\n";
     return EXIT_SUCCESS;

@@ -99,31 +99,20 @@ Json ReportToJson(const DepthModelFitReport& r) {
                       {"err_s_mm", f.err_s_mm},
                       {"markers", f.markers}});
   }
-  Json markers = Json::array();
-  for (const StickerUse& m : r.markers) {
-    markers.push_back(
-        {{"centre_mm", m.centre_mm}, {"observations", m.observations}, {"rejected", m.rejected}});
-  }
   Json cv = Json::array();
   for (const auto& [name, cost] : r.cross_validation) {
     cv.push_back({{"model", name}, {"held_out_err_s2_mm2", cost}});
   }
-  return Json{{"method", r.method},
-              {"costs", r.costs},
-              {"frames_used", r.frames_used},
-              {"frames_left_out", r.frames_left_out},
-              {"head_points_left_out", r.head_points_left_out},
-              {"marker_patches_screened_out", r.marker_patches_screened_out},
-              {"marker_observations", r.marker_observations},
-              {"marker_observations_rejected", r.marker_observations_rejected},
-              {"markers", markers},
-              {"evaluations", r.evaluations},
-              {"initial_cost_mm2", r.initial_cost},
-              {"final_cost_mm2", r.final_cost},
-              {"seconds", r.seconds},
-              {"standard_errors", r.standard_errors},
-              {"cross_validation", cv},
-              {"frames", frames}};
+  Json out{{"method", r.method}, {"costs", r.costs}, {"frames_used", r.frames_used}};
+  out.update(LeftOutToJson(r));
+  out.update(Json{{"evaluations", r.evaluations},
+                  {"initial_cost_mm2", r.initial_cost},
+                  {"final_cost_mm2", r.final_cost},
+                  {"seconds", r.seconds},
+                  {"standard_errors", r.standard_errors},
+                  {"cross_validation", cv},
+                  {"frames", frames}});
+  return out;
 }
 
 // Lenient: a report is informative, so absent or mistyped entries keep their defaults.
@@ -271,6 +260,20 @@ DepthModelFile ReadDepthModelJson(const Path& path) {
 
 void WriteDepthModelJson(const Path& path, const DepthModelFile& file) {
   WriteFileAtomically(path, EncodeDepthModelJson(file));
+}
+
+Json LeftOutToJson(const DepthModelFitReport& r) {
+  Json markers = Json::array();
+  for (const StickerUse& m : r.markers) {
+    markers.push_back(
+        {{"centre_mm", m.centre_mm}, {"observations", m.observations}, {"rejected", m.rejected}});
+  }
+  return Json{{"frames_left_out", r.frames_left_out},
+              {"head_points_left_out", r.head_points_left_out},
+              {"marker_patches_screened_out", r.marker_patches_screened_out},
+              {"marker_observations", r.marker_observations},
+              {"marker_observations_rejected", r.marker_observations_rejected},
+              {"markers", markers}};
 }
 
 }  // namespace tofnav

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -28,5 +29,9 @@ DepthModelFile DecodeDepthModelJson(std::string_view text,
 std::string EncodeDepthModelJson(const DepthModelFile& file);
 DepthModelFile ReadDepthModelJson(const std::filesystem::path& path);
 void WriteDepthModelJson(const std::filesystem::path& path, const DepthModelFile& file);
+
+/// What the identification left out (frames, foreground points, marker observations and each
+/// sticker's counts), as depth_model.json's "fit" and `tofnav identify --json` write it.
+nlohmann::ordered_json LeftOutToJson(const DepthModelFitReport& report);
 
 }  // namespace tofnav
