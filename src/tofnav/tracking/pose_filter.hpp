@@ -18,7 +18,7 @@ struct PoseFilterOptions {
   /// Innovation gate: chi-square with 6 degrees of freedom (22.46: p = 0.999). Innovations below
   /// both floors are never gated, so slow manoeuvres are followed, not rejected.
   double gate_chi2 = 22.46;
-  double gate_floor_mm = 2.0;
+  double gate_floor_mm = 3.0;
   double gate_floor_rad = 0.035;
   /// Manoeuvre boost: a normalised position (rotation) innovation above boost_chi2 (3 degrees
   /// of freedom; 16.27: p = 0.999) adds boost_*_sigma^2 to the rate variance, so the filter

@@ -65,39 +65,45 @@ TEST(PoseFilter, FollowsMotionWithRealTimeStepsAsTheRateDrops) {
   }
 }
 
+// Still for 1 s, accelerate at 2 m/s^2 for 0.1 s, glide at 200 mm/s, stop likewise at 3 s.
+double HandMotionXMm(double s) {
+  const double a = 2000.0, t0 = 1.0, t1 = 1.1, t2 = 2.9, t3 = 3.0;
+  if (s < t0) return 0.0;
+  if (s < t1) return 0.5 * a * (s - t0) * (s - t0);
+  const double x1 = 0.5 * a * 0.01;
+  if (s < t2) return x1 + 200.0 * (s - t1);
+  const double x2 = x1 + 200.0 * (t2 - t1);
+  if (s < t3) return x2 + 200.0 * (s - t2) - 0.5 * a * (s - t2) * (s - t2);
+  return x2 + 200.0 * 0.1 - 0.5 * a * 0.01;
+}
+
 TEST(PoseFilter, CatchesUpWithAHandMotionThatStartsAndStops) {
   constexpr double kMaxLagMm = 2.0;  // during 2 m/s^2 accelerations, at 45 Hz
-  std::mt19937_64 rng(3);
-  PoseFilter filter;
-  double worst = 0.0, worst_still = 0.0;
-  int gated = 0;
-  for (int i = 0; i < 180; ++i) {
-    const double t = i / 45.0;
-    // Still for 1 s, accelerate at 2 m/s^2 for 0.1 s, glide at 200 mm/s, stop likewise at 3 s.
-    const auto x_at = [](double s) {
-      const double a = 2000.0, t0 = 1.0, t1 = 1.1, t2 = 2.9, t3 = 3.0;
-      if (s < t0) return 0.0;
-      if (s < t1) return 0.5 * a * (s - t0) * (s - t0);
-      const double x1 = 0.5 * a * 0.01;
-      if (s < t2) return x1 + 200.0 * (s - t1);
-      const double x2 = x1 + 200.0 * (t2 - t1);
-      if (s < t3) return x2 + 200.0 * (s - t2) - 0.5 * a * (s - t2) * (s - t2);
-      return x2 + 200.0 * 0.1 - 0.5 * a * 0.01;
-    };
-    const Rigid3d truth(Eigen::Quaterniond::Identity(), {x_at(t), 0.0, 450.0});
-    const PoseFilterUpdate u = filter.Update(Noisy(truth, rng, 0.1, 0.001), t);
-    gated += u.gated ? 1 : 0;
-    ASSERT_TRUE(!u.reset || i == 0) << i;
-    const double error = TranslationDistanceMm(u.filtered, truth);
-    worst = std::max(worst, error);
-    if (t > 3.5) worst_still = std::max(worst_still, error);
+  // Every seed: the second frame of the acceleration moves 1.98 mm, at the gate's floor, so one
+  // seed alone would pass or fail by the luck of its noise draw (the sanitizer build's rounding
+  // once crossed it); 40 seeds make the test see the floor's whole neighbourhood.
+  for (int seed = 1; seed <= 40; ++seed) {
+    std::mt19937_64 rng(seed);
+    PoseFilter filter;
+    double worst = 0.0, worst_still = 0.0;
+    int gated = 0, resets = 0;
+    for (int i = 0; i < 180; ++i) {
+      const double t = i / 45.0;
+      const Rigid3d truth(Eigen::Quaterniond::Identity(), {HandMotionXMm(t), 0.0, 450.0});
+      const PoseFilterUpdate u = filter.Update(Noisy(truth, rng, 0.1, 0.001), t);
+      gated += u.gated ? 1 : 0;
+      resets += u.reset && i > 0 ? 1 : 0;
+      const double error = TranslationDistanceMm(u.filtered, truth);
+      worst = std::max(worst, error);
+      if (t > 3.5) worst_still = std::max(worst_still, error);
+    }
+    EXPECT_LT(worst, kMaxLagMm) << "seed " << seed;
+    EXPECT_LT(worst_still, 0.3) << "seed " << seed;  // settled again after the stop
+    // The motion itself is never rejected (three gated frames in a row would be a reset); the
+    // gate is chi-square p = 0.999 per frame, so a noise draw may cross it once in 180 frames.
+    EXPECT_EQ(resets, 0) << "seed " << seed;
+    EXPECT_LE(gated, 1) << "seed " << seed;
   }
-  EXPECT_LT(worst, kMaxLagMm);
-  EXPECT_LT(worst_still, 0.3);  // settled again after the stop
-  // The gate is chi-square p = 0.999 per frame: over 180 frames a noise draw may cross it once or
-  // twice (the sanitizer build's rounding crossed it at the start of the acceleration); the motion
-  // itself must not be rejected, which three gated frames in a row would turn into a reset.
-  EXPECT_LE(gated, 2);
 }
 
 TEST(PoseFilter, GatesAnOutlierAndReinitialisesAfterARealJump) {
