@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <iostream>
+#include <map>
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
@@ -39,6 +40,42 @@ Rigid3d ReadToolFromImage(const std::filesystem::path& path) {
                              "_from_" + t.source_frame);
   }
   return t.target_from_source;
+}
+
+}  // namespace
+
+namespace {
+
+// What navigation left out, and why: reference poses that jumped in the world, and per tool the
+// marker observations by how they entered the pose (docs/navigation.md section 1.2).
+nlohmann::ordered_json DroppedJson(const NavigationSessionStats& stats) {
+  nlohmann::ordered_json j{{"reference_pose_jumps", stats.reference_pose_jumps}};
+  const auto uses = [](const std::map<MarkerUse, std::int64_t>& counts) {
+    nlohmann::ordered_json u = nlohmann::ordered_json::object();
+    for (const auto& [use, n] : counts) u[ToString(use)] = n;
+    return u;
+  };
+  j["reference_markers"] = uses(stats.reference_markers);
+  j["instrument_markers"] = uses(stats.instrument_markers);
+  return j;
+}
+
+void PrintDropped(const NavigationSessionStats& stats) {
+  std::cout << "  reference poses left out as jumps in the world: " << stats.reference_pose_jumps
+            << "\n";
+  const auto print = [](const char* tool, const std::map<MarkerUse, std::int64_t>& counts) {
+    std::int64_t not_used = 0;
+    for (const auto& [use, n] : counts) not_used += InPose(use) ? 0 : n;
+    if (counts.empty()) return;
+    std::cout << "  " << tool << " markers not in the pose: " << not_used;
+    for (const auto& [use, n] : counts) {
+      if (!InPose(use) || use == MarkerUse::kUsedDamaged)
+        std::cout << ", " << ToString(use) << " " << n;
+    }
+    std::cout << "\n";
+  };
+  print("reference", stats.reference_markers);
+  print("instrument", stats.instrument_markers);
 }
 
 }  // namespace
@@ -89,7 +126,12 @@ int RunNavigate(int argc, char** argv) {
   app.add_option("--out", out, "per-frame CSV (status, poses, plan, guidance)");
   app.add_flag("-q,--quiet", quiet, "no live status line");
   app.add_flag("--json", json, "print the summary as JSON");
+  NavigatorOptions navigator_options;
+  bool no_pose_check = false;
+  app.add_flag("--no-pose-check", no_pose_check,
+               "use every reference pose (no check against its recent world poses)");
   CLI11_PARSE(app, argc, argv);
+  navigator_options.check_pose_jumps = !no_pose_check;
   HeadsetDisplayOptions headset;
   if (!hololens.empty()) std::tie(headset.host, headset.port) = ParseRemoteSceneEndpoint(hololens);
 
@@ -119,7 +161,7 @@ int RunNavigate(int argc, char** argv) {
     source =
         std::make_unique<RecordingFrameSource>(std::move(recording), ReplayOptions{realtime, loop});
   }
-  Navigator navigator(AhatCamera(*camera_calibration), c);
+  Navigator navigator(AhatCamera(*camera_calibration), c, navigator_options);
   if (!trajectory.empty()) {
     int index = -1;
     for (std::size_t i = 0; i < c.plan.size(); ++i) {
@@ -216,7 +258,8 @@ int RunNavigate(int argc, char** argv) {
                                  {"holding", stats.holding},
                                  {"reference_lost", stats.reference_lost},
                                  {"no_world_pose", stats.no_world_pose},
-                                 {"duration_s", stats.last_timestamp_s - stats.first_timestamp_s}};
+                                 {"duration_s", stats.last_timestamp_s - stats.first_timestamp_s},
+                                 {"dropped", DroppedJson(stats)}};
   if (server) {
     const IgtlServerStats s = server->stats();
     summary["igtl"] = {{"port", server->port()},
@@ -242,6 +285,7 @@ int RunNavigate(int argc, char** argv) {
     std::cout << "navigated " << stats.frames << " frames: " << stats.tracking << " tracking, "
               << stats.holding << " holding, " << stats.reference_lost << " reference lost, "
               << stats.no_world_pose << " without head pose\n";
+    PrintDropped(stats);
   }
   return live != nullptr && !live->failure().empty() && !signals.signalled() && !timed_out
              ? kExitGaveUp

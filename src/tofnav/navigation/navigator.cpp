@@ -31,6 +31,9 @@ void NavigatorOptions::Check() const {
   tracking.Check();
   Require(std::isfinite(stale_after_s) && stale_after_s > 0.0,
           "NavigatorOptions.stale_after_s must be > 0");
+  pose_jumps.Check();
+  Require(std::isfinite(held_mean_span_s) && held_mean_span_s >= 0.0,
+          "NavigatorOptions.held_mean_span_s must be >= 0");
   Require(!instrument_axis_in_tool || instrument_axis_in_tool->norm() > 0.0,
           "NavigatorOptions.instrument_axis_in_tool must be non-zero");
 }
@@ -56,7 +59,8 @@ Navigator::Navigator(AhatCamera camera, NavigationCase navigation_case,
     : camera_(std::move(camera)),
       case_(std::move(navigation_case)),
       options_(options),
-      tracker_(TrackedTools(case_), options.tracking) {
+      tracker_(TrackedTools(case_), options.tracking),
+      reference_guard_(options.pose_jumps) {
   options_.Check();
   for (const Trajectory& t : case_.plan) {
     Require((t.target_lps_mm - t.entry_lps_mm).norm() > 0.0,
@@ -88,7 +92,10 @@ NavigationState Navigator::Process(const AhatFrame& frame) {  // Sec. III-C
   // Eq. (2): marker ranges corrected by f_rf before the sphere radius is added.
   const std::vector<DetectedMarker> corrected =
       CorrectMarkerRanges(detected.markers, case_.marker_range);
-  const TrackingFrame tracked = tracker_.Track(corrected, timestamp_s);  // ahat_from_tool
+  std::optional<Rigid3d> world_from_ahat;
+  if (frame.world_from_rig) world_from_ahat = *frame.world_from_rig * camera_.rig_from_ahat();
+  const TrackingFrame tracked =
+      tracker_.Track(corrected, timestamp_s, world_from_ahat, detected.dropped);  // ahat_from_tool
   return Place(timestamp_s, tracked, frame.world_from_rig, static_cast<int>(corrected.size()));
 }
 
@@ -103,17 +110,36 @@ NavigationState Navigator::Place(double timestamp_s, const TrackingFrame& tracke
   Require(!tracked.tools.empty(), "Navigator::Place: no reference in the tracking frame");
   const TrackedTool& reference = tracked.tools.front();
   state.reference_status = reference.status();
+  state.reference_marker_use = reference.measurement.marker_use;
   state.ahat_from_tool = PoseOf(reference, options_.tracking.filter_enabled);
+  bool fresh = false;
   if (state.ahat_from_tool && world_from_rig) {
-    // Eq. (8): world_from_image = world_from_rig * rig_from_ahat * ahat_from_tool * tool_from_image
-    held_world_from_image_ =
-        *world_from_rig * camera_.rig_from_ahat() * *state.ahat_from_tool * case_.tool_from_image;
-    reference_seen_s_ = timestamp_s;
+    const Rigid3d world_from_tool =
+        *world_from_rig * camera_.rig_from_ahat() * *state.ahat_from_tool;
+    if (options_.check_pose_jumps) {
+      state.reference_pose_check = reference_guard_.Judge(world_from_tool, timestamp_s);
+      state.reference_pose_jump = state.reference_pose_check.status == PoseConsistency::kJump;
+    }
+    if (state.reference_pose_jump) {
+      state.ahat_from_tool.reset();  // as if unseen: HOLDING on the accepted poses
+    } else {
+      // Eq. (8): world_from_image = world_from_rig * rig_from_ahat * ahat_from_tool *
+      // tool_from_image
+      held_world_from_image_ = world_from_tool * case_.tool_from_image;
+      reference_seen_s_ = timestamp_s;
+      fresh = true;
+    }
   }
   state.reference_age_s = reference_seen_s_ ? timestamp_s - *reference_seen_s_
                                             : std::numeric_limits<double>::infinity();
   const bool current = state.reference_age_s <= options_.stale_after_s;
   if (!current) held_world_from_image_.reset();  // never re-used as if it were current
+  if (current && !fresh && options_.check_pose_jumps && options_.held_mean_span_s > 0.0) {
+    // Held: the mean of the last accepted world poses, not the last one alone.
+    if (const auto mean = reference_guard_.Mean(*reference_seen_s_, options_.held_mean_span_s)) {
+      held_world_from_image_ = *mean * case_.tool_from_image;
+    }
+  }
   state.world_from_image = held_world_from_image_;
   if (state.ahat_from_tool) {
     state.status = world_from_rig ? NavigationStatus::kTracking : NavigationStatus::kNoWorldPose;
@@ -133,6 +159,7 @@ NavigationState Navigator::Place(double timestamp_s, const TrackingFrame& tracke
 
 void Navigator::PlaceInstrument(NavigationState& state, const TrackedTool& instrument) const {
   state.instrument_status = instrument.status();
+  state.instrument_marker_use = instrument.measurement.marker_use;
   state.ahat_from_instrument = PoseOf(instrument, options_.tracking.filter_enabled);
   if (!state.ahat_from_instrument) return;
   if (state.ahat_from_tool) {

@@ -13,6 +13,7 @@
 #include "tofnav/navigation/guidance.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
+#include "tofnav/tracking/pose_jump_guard.hpp"
 #include "tofnav/tracking/tool_tracker.hpp"
 
 namespace tofnav {
@@ -25,6 +26,15 @@ struct NavigatorOptions {
   ToolTrackerOptions tracking{.filter_enabled = false};
   /// The reference tool unseen for longer than this [s]: its last pose is no longer current.
   double stale_after_s = 0.1;
+  /// The headframe's world pose (world_from_rig * rig_from_ahat * ahat_from_tool) checked against
+  /// its last accepted poses: a jump is left out as if the reference were unseen (HOLDING).
+  bool check_pose_jumps = true;
+  PoseJumpGuardOptions pose_jumps;
+  /// While HOLDING, world_from_image is the mean of the accepted world poses of this last span
+  /// [s] (5 frames at 45 Hz): the held picture does not keep one frame's noise. While TRACKING it
+  /// is this frame's pose, so that the instrument's guidance (same frame, same head pose) is
+  /// free of the head tracking's jitter.
+  double held_mean_span_s = 0.1;
   /// Instrument axis in its own frame (towards the tip); nullopt: from the markers' centroid to
   /// the tip (a drill whose marker array sits on its shaft axis).
   std::optional<Eigen::Vector3d> instrument_axis_in_tool;
@@ -63,10 +73,16 @@ struct NavigationState {
   double reference_age_s = 0.0;  // since the reference was last measured (infinity: never)
   double stream_down_s = 0.0;    // kNoStream: since the last frame arrived
   int detected_markers = 0;
-  std::optional<Rigid3d> ahat_from_tool;    // reference, measured in this frame (filtered)
-  std::optional<Rigid3d> world_from_rig;    // this frame's head pose
-  std::optional<Rigid3d> world_from_image;  // Eq. (8): kTracking (current) or kHolding (held)
-  std::vector<PlacedTrajectory> plan;       // one per NavigationCase::plan when world_from_image
+  /// The reference was measured, but its world pose jumped from its recent ones: left out
+  /// (ahat_from_tool empty), and the pose check's deviation.
+  bool reference_pose_jump = false;
+  PoseConsistencyResult reference_pose_check;
+  std::vector<MarkerUse> reference_marker_use;   // per reference marker: in the pose, or why not
+  std::vector<MarkerUse> instrument_marker_use;  // the same for the instrument
+  std::optional<Rigid3d> ahat_from_tool;         // reference, measured in this frame (filtered)
+  std::optional<Rigid3d> world_from_rig;         // this frame's head pose
+  std::optional<Rigid3d> world_from_image;       // Eq. (8): kTracking (current) or kHolding (held)
+  std::vector<PlacedTrajectory> plan;  // one per NavigationCase::plan when world_from_image
   std::optional<ToolStatus> instrument_status;  // with an instrument only
   std::optional<Rigid3d> ahat_from_instrument;  // measured in this frame
   std::optional<Rigid3d> tool_from_instrument;  // both tools measured in this frame
@@ -90,6 +106,8 @@ class Navigator {
   /// Eq. (8) and the plan from given poses (no detection): the tail of Process.
   NavigationState Place(double timestamp_s, const TrackingFrame& tracked,
                         const std::optional<Rigid3d>& world_from_rig, int detected_markers);
+  /// Frames whose reference pose was left out as a jump, and restarts of the pose check.
+  int reference_pose_jumps() const { return reference_guard_.jumps(); }
   /// Selects the trajectory guidance refers to; PreconditionError when out of range.
   void SelectTrajectory(int index);
   const NavigationCase& navigation_case() const { return case_; }
@@ -106,6 +124,7 @@ class Navigator {
   int active_trajectory_ = 0;
   std::optional<double> reference_seen_s_;
   std::optional<Rigid3d> held_world_from_image_;
+  PoseJumpGuard reference_guard_;
 };
 
 }  // namespace tofnav

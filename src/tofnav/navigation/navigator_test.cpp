@@ -105,6 +105,41 @@ TEST(Navigator, HoldsThenReportsStaleAfter100Ms) {
             NavigationStatus::kTracking);
 }
 
+TEST(Navigator, AJumpedReferencePoseIsLeftOutAndTheHeldPoseIsTheRecentMean) {
+  Navigator nav(Camera(), Case(false));
+  const Rigid3d world_from_rig = Turn(0.1, {0, 1, 0}, {0, 1600, 0});
+  const Rigid3d ahat_from_tool = Turn(3.0, {1, 0, 0}, {0, 0, 400});
+  // 20 frames at 45 Hz whose poses alternate 0.2 mm either side of ahat_from_tool (noise).
+  NavigationState last;
+  for (int i = 0; i < 20; ++i) {
+    Rigid3d pose = ahat_from_tool;
+    pose.translation.x() += i % 2 == 0 ? 0.2 : -0.2;
+    last = nav.Place(i / 45.0, Tracked(i / 45.0, pose), world_from_rig, 4);
+    EXPECT_EQ(last.status, NavigationStatus::kTracking) << i;
+    EXPECT_FALSE(last.reference_pose_jump) << i;
+  }
+  // A 5 deg tilt (a wrong correspondence): measured, left out, held.
+  const Rigid3d tilted = ahat_from_tool * Turn(5.0 * std::numbers::pi / 180.0, {0, 1, 0}, {});
+  const NavigationState jumped =
+      nav.Place(20 / 45.0, Tracked(20 / 45.0, tilted), world_from_rig, 4);
+  EXPECT_EQ(jumped.status, NavigationStatus::kHolding);
+  EXPECT_TRUE(jumped.reference_pose_jump);
+  EXPECT_EQ(jumped.reference_pose_check.status, PoseConsistency::kJump);
+  EXPECT_NEAR(jumped.reference_pose_check.rotation_rad, 5.0 * std::numbers::pi / 180.0, 1e-3);
+  EXPECT_FALSE(jumped.ahat_from_tool);
+  EXPECT_EQ(nav.reference_pose_jumps(), 1);
+  // Held: the mean of the last 0.1 s (5 poses, +-0.2 mm alternating: 0.04 mm from the centre),
+  // not the last pose (0.2 mm off).
+  const Rigid3d centre = world_from_rig * Camera().rig_from_ahat() * ahat_from_tool *
+                         nav.navigation_case().tool_from_image;
+  ASSERT_TRUE(jumped.world_from_image);
+  EXPECT_NEAR(TranslationDistanceMm(*jumped.world_from_image, centre), 0.04, 1e-6);
+  EXPECT_NEAR(TranslationDistanceMm(*last.world_from_image, centre), 0.2, 1e-6);
+  // The next good pose tracks again.
+  EXPECT_EQ(nav.Place(21 / 45.0, Tracked(21 / 45.0, ahat_from_tool), world_from_rig, 4).status,
+            NavigationStatus::kTracking);
+}
+
 TEST(Navigator, NoWorldPoseWithoutRigPose) {
   Navigator nav(Camera(), Case(false));
   const NavigationState s =

@@ -34,6 +34,17 @@ NavigationSessionStats RunNavigationSession(
       case NavigationStatus::kNoStream:  // between frames only (live_link.hpp)
         break;
     }
+    stats.reference_pose_jumps += state.reference_pose_jump ? 1 : 0;
+    // A tool without a pose has all its markers kUnseen: only a posed tool's say something.
+    const auto posed = [](ToolStatus s) {
+      return s == ToolStatus::kOk || s == ToolStatus::kPartiallyOccluded;
+    };
+    if (posed(state.reference_status)) {
+      for (const MarkerUse use : state.reference_marker_use) ++stats.reference_markers[use];
+    }
+    if (state.instrument_status && posed(*state.instrument_status)) {
+      for (const MarkerUse use : state.instrument_marker_use) ++stats.instrument_markers[use];
+    }
     if (on_state) on_state(state);
   }
   return stats;

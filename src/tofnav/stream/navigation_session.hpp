@@ -5,6 +5,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <map>
 
 #include "tofnav/navigation/navigator.hpp"
 #include "tofnav/stream/frame_source.hpp"
@@ -18,6 +19,11 @@ struct NavigationSessionStats {
   std::int64_t holding = 0;         // kHolding
   std::int64_t reference_lost = 0;  // kReferenceLost
   std::int64_t no_world_pose = 0;   // kNoWorldPose
+  /// Reference poses measured but left out because their world pose jumped (Navigator), and
+  /// per tool (reference, then instrument) the marker observations by how they entered the pose
+  /// (MarkerUse; frames where the tool was matched).
+  std::int64_t reference_pose_jumps = 0;
+  std::map<MarkerUse, std::int64_t> reference_markers, instrument_markers;
   double first_timestamp_s = 0.0;
   double last_timestamp_s = 0.0;
 };

@@ -18,8 +18,10 @@ double MedianOf(std::vector<double>& values) {
   return 0.5 * (*mid + *std::max_element(values.begin(), mid));
 }
 
-// The neighbours' robust centre: component-wise median translation, medoid rotation.
-Rigid3d RobustCentre(const std::vector<const Rigid3d*>& poses) {
+}  // namespace
+
+Rigid3d RobustPoseCentre(std::span<const Rigid3d* const> poses) {
+  Require(!poses.empty(), "RobustPoseCentre: no poses");
   Eigen::Vector3d translation;
   std::vector<double> values(poses.size());
   for (int axis = 0; axis < 3; ++axis) {
@@ -35,8 +37,6 @@ Rigid3d RobustCentre(const std::vector<const Rigid3d*>& poses) {
   }
   return {poses[best]->rotation, translation};
 }
-
-}  // namespace
 
 void PoseConsistencyOptions::Check() const {
   Require(std::isfinite(window_s) && window_s > 0.0,
@@ -69,7 +69,7 @@ std::vector<PoseConsistencyResult> CheckPoseConsistency(
       if (j != i && world_from_tool[j]) neighbours.push_back(&*world_from_tool[j]);
     }
     if (neighbours.size() < options.min_neighbours) continue;
-    const Rigid3d centre = RobustCentre(neighbours);
+    const Rigid3d centre = RobustPoseCentre(neighbours);
     PoseConsistencyResult& r = results[i];
     r.translation_mm = TranslationDistanceMm(*world_from_tool[i], centre);
     r.rotation_rad = RotationDistanceRad(*world_from_tool[i], centre);

@@ -61,4 +61,9 @@ std::vector<PoseConsistencyResult> CheckPoseConsistency(
 
 const char* ToString(PoseConsistency status);
 
+/// The robust centre of a set of poses: the component-wise median of their translations and the
+/// medoid of their rotations (the one whose summed angle to the others is least). Fewer than half
+/// of them far off do not move it. Throws PreconditionError when `poses` is empty.
+Rigid3d RobustPoseCentre(std::span<const Rigid3d* const> poses);
+
 }  // namespace tofnav
