@@ -105,6 +105,16 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   const SurfaceIndex skin(SkinIsoSurface(ReadVolume(ctx.session_dir / "ct.nrrd")));
   IdentifyRecordingOptions options;  // the automatic head region leaves the headframe out
   options.max_frames = static_cast<int>(ctx.session_frames);
+  // The device's illuminator constant K is what a user calibrates once per headset; the
+  // simulator's multipath gain g scales the indirect light, which the removal sees as a device
+  // of constant K / g (none at g = 0: a world without indirect light). docs/correction.md 7.
+  if (ctx.session) {
+    const double gain = ctx.session->render.multipath.gain;
+    options.sampling.multipath.enabled = gain > 0.0;
+    if (gain > 0.0)
+      options.sampling.multipath.ab_scale = ctx.session->render.radiometry.ab_scale / gain;
+    options.sampling.multipath.falloff_power = ctx.session->render.radiometry.falloff_power;
+  }
   const IdentifyRecordingResult identified =
       IdentifyFromRecording(*s.recording, s.camera, ctx.frf, &skin, options,
                             [&](std::size_t d, std::size_t t) { ctx.progress("identify", d, t); });
@@ -117,6 +127,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
                     {"C3_mm_per_rad", m.c3_mm},
                     {"C4_mm", m.c4_mm},
                     {"costs", m.report.costs},
+                    {"multipath_removed", m.multipath.enabled},
                     {"frames", m.report.frames_used},
                     {"frames_left_out", m.report.frames_left_out},
                     {"marker_observations", m.report.marker_observations},

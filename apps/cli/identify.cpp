@@ -87,9 +87,21 @@ int RunIdentify(int argc, char** argv) {
   app.add_option("--huber-mm", options.huber_scale_mm, "robust (Huber) scale [mm], 0 = off");
   app.add_option("--correctness-frames", options.max_correctness_frames,
                  "frames that run an ICP for Err_C");
+  std::string multipath = "on";
+  app.add_option("--multipath", multipath,
+                 "remove one-bounce multipath before the fit (and, through the model file, before "
+                 "every correction with it): on or off (docs/correction.md 7)")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
+  app.add_option(
+         "--ab-scale", sampling.multipath.ab_scale,
+         "the illuminator's AB of an albedo-1 surface facing the camera at 1 m [counts m^2]")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the result as JSON");
   CLI11_PARSE(app, argc, argv);
+  sampling.multipath.enabled = multipath == "on";
 
   const AhatCamera camera(ReadHl2ssCalibration(calibration_path, sample_offset));
   const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
@@ -133,6 +145,7 @@ int RunIdentify(int argc, char** argv) {
                                {"c3_mm", m.c3_mm},
                                {"c4_mm", m.c4_mm},
                                {"costs", m.report.costs},
+                               {"multipath_removed", m.multipath.enabled},
                                {"frames", m.report.frames_used}};
     out.update(LeftOutToJson(m.report));
     out.update(nlohmann::ordered_json{{"initial_cost_mm2", m.report.initial_cost},
@@ -151,7 +164,9 @@ int RunIdentify(int argc, char** argv) {
             << " frames, " << m.report.seconds << " s)\n"
             << "  C1 = " << m.c1_mm << " mm, C2 = " << m.c2 << ", C3 = " << m.c3_mm
             << " mm/unit, C4 = " << m.c4_mm << " mm\n"
-            << "  cost " << m.report.initial_cost << " -> " << m.report.final_cost << " mm^2\n";
+            << "  cost " << m.report.initial_cost << " -> " << m.report.final_cost << " mm^2\n"
+            << "  multipath " << (m.multipath.enabled ? "removed first" : "not removed")
+            << " (docs/correction.md 7)\n";
   PrintLeftOut(m.report);
   for (const auto& [name, cost] : m.report.cross_validation) {
     std::cout << "  held-out Err_S^2 " << name << ": " << cost << " mm^2\n";

@@ -11,6 +11,7 @@
 #include "tofnav/correction/correct_range.hpp"
 #include "tofnav/correction/depth_error_model.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/correction/multipath_correction.hpp"
 
 namespace tofnav::python {
 
@@ -74,6 +75,8 @@ void DefineDepthModel(py::module_& m) {
       .def_readwrite("c4_mm", &DepthErrorModel::c4_mm)
       .def_readwrite("use_intensity", &DepthErrorModel::use_intensity)
       .def_readwrite("ab_reference", &DepthErrorModel::ab_reference)
+      .def_readwrite("multipath", &DepthErrorModel::multipath,
+                     "MultipathCorrectionOptions applied before Eq. (4) (off unless identified so)")
       .def_property(
           "angle_term", [](const DepthErrorModel& d) { return AngleTermName(d.angle_term); },
           [](DepthErrorModel& d, const std::string& name) { d.angle_term = ParseAngleTerm(name); },
@@ -166,6 +169,18 @@ void DefineOptions(py::module_& m) {
       .def_readwrite("difference_step_px", &RangeNormalOptions::difference_step_px)
       .def_readwrite("edge_abs_mm", &RangeNormalOptions::edge_abs_mm)
       .def_readwrite("edge_rel", &RangeNormalOptions::edge_rel);
+  OptionsClass<MultipathCorrectionOptions>(m, "MultipathCorrectionOptions",
+                                           "RemoveMultipath options (docs/correction.md 7)")
+      .def_readwrite("enabled", &MultipathCorrectionOptions::enabled)
+      .def_readwrite("ab_scale", &MultipathCorrectionOptions::ab_scale)
+      .def_readwrite("falloff_power", &MultipathCorrectionOptions::falloff_power)
+      .def_readwrite("max_albedo", &MultipathCorrectionOptions::max_albedo)
+      .def_readwrite("source_stride_px", &MultipathCorrectionOptions::source_stride_px)
+      .def_readwrite("receiver_stride_px", &MultipathCorrectionOptions::receiver_stride_px)
+      .def_readwrite("min_cos_incidence", &MultipathCorrectionOptions::min_cos_incidence)
+      .def_readwrite("max_indirect_ratio", &MultipathCorrectionOptions::max_indirect_ratio)
+      .def_readwrite("passes", &MultipathCorrectionOptions::passes)
+      .def_readwrite("alias_mm", &MultipathCorrectionOptions::alias_mm);
   OptionsClass<CorrectRangeOptions>(m, "CorrectRangeOptions", "CorrectFrame options")
       .def_readwrite("marker_model", &CorrectRangeOptions::marker_model)
       .def_readwrite("segmentation", &CorrectRangeOptions::segmentation)
@@ -186,6 +201,23 @@ py::tuple Normals(const ArrayF& range_mm, const AhatCamera& camera,
     }
   }
   return py::make_tuple(normal, ArrayFromImage(n.incidence_rad));
+}
+
+py::tuple Multipath(const ArrayF& range_mm,
+                    const py::array_t<std::uint16_t, py::array::c_style | py::array::forcecast>& ab,
+                    const AhatCamera& camera,
+                    const std::optional<MultipathCorrectionOptions>& options,
+                    const std::optional<RangeNormalOptions>& normal_options) {
+  MultipathCorrectionStats stats;
+  const Image<float> out = RemoveMultipath(ImageFromArray<float>(range_mm, "range_mm"),
+                                           ImageFromArray<std::uint16_t>(ab, "ab"), camera,
+                                           options.value_or(MultipathCorrectionOptions{}),
+                                           normal_options.value_or(RangeNormalOptions{}), &stats);
+  py::dict s;
+  s["pixels_corrected"] = stats.pixels_corrected;
+  s["pixels_dropped"] = stats.pixels_dropped;
+  s["mean_shift_mm"] = stats.mean_shift_mm;
+  return py::make_tuple(ArrayFromImage(out), s);
 }
 
 py::dict SegmentationDict(const FrameSegmentation& s) {
@@ -217,6 +249,11 @@ void DefineFrameCorrection(py::module_& m) {
         py::arg("options") = py::none(),
         "(H, W) range [mm] -> ((H, W, 3) float32 unit normals in ahat facing the camera, zero "
         "where none; (H, W) float32 incidence theta [rad], NaN where none) (ComputeRangeNormals)");
+  m.def("remove_multipath", &Multipath, py::arg("range_mm"), py::arg("ab"), py::arg("camera"),
+        py::arg("options") = py::none(), py::arg("normal_options") = py::none(),
+        "(H, W) range [mm] (0 = invalid; markers removed), (H, W) AB -> "
+        "((H, W) float32 range with one-bounce multipath removed, 0 = dropped; stats dict) "
+        "(RemoveMultipath, docs/correction.md 7)");
   m.def(
       "segment_frame",
       [](const AhatFrame& frame, const AhatCamera& camera,

@@ -134,3 +134,57 @@ def test_marker_range_fit_recovers_a_linear_f_rf(tmp_path):
     with pytest.raises(OSError, match="dm.json"):
         (tmp_path / "dm.json").write_text('{"format": "tofnav-depth-model"')
         tofnav.read_depth_model(tmp_path / "dm.json")
+
+
+def plane_range(camera, normal, point):
+    """Range (H, W) of the plane through `point` with unit `normal`, 0 where it faces away."""
+    rays = camera.points_from_range(np.ones((camera.height, camera.width)))
+    cos_n = rays @ normal
+    with np.errstate(invalid="ignore", divide="ignore"):
+        d = (normal @ point) / cos_n
+    return np.where((cos_n < -0.2) & np.isfinite(d) & (d > 0), d, 0.0)
+
+
+def lambertian_ab(camera, range_mm, normal, albedo=0.8, ab_scale=65.0):
+    """AB = K rho cos(theta) cos^2(off-axis) / d^2 (d in m), the model RemoveMultipath assumes."""
+    rays = camera.points_from_range(np.ones((camera.height, camera.width)))
+    cos_theta = np.clip(-(rays @ normal), 0.0, 1.0)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        ab = ab_scale * albedo * cos_theta * rays[..., 2] ** 2 / (range_mm * 1e-3) ** 2
+    return np.where(range_mm > 0, np.clip(ab, 0, 65535), 0).astype(np.uint16)
+
+
+def test_remove_multipath_leaves_a_plane_and_shortens_a_concave_corner(camera):
+    # A plane cannot light itself: nothing to remove (float arithmetic only).
+    plane_n = np.array([0.0, 0.0, -1.0])
+    plane = plane_range(camera, plane_n, np.array([0.0, 0.0, 450.0])).astype(np.float32)
+    corrected, stats = tofnav.remove_multipath(plane, lambertian_ab(camera, plane, plane_n), camera)
+    assert stats["pixels_corrected"] > 100000 and stats["pixels_dropped"] == 0
+    assert np.abs(corrected - plane)[plane > 0].max() < 1e-3
+    # Two walls at 45 deg forming a crease at z = 500 mm, open towards the camera: each lights the
+    # other, so both read long and the correction shortens both, mirror-symmetrically.
+    s = np.sqrt(0.5)
+    left_n, right_n = np.array([s, 0.0, -s]), np.array([-s, 0.0, -s])
+    crease = np.array([0.0, 0.0, 500.0])
+    left, right = plane_range(camera, left_n, crease), plane_range(camera, right_n, crease)
+    v, u = np.mgrid[0:camera.height, 0:camera.width]
+    x = camera.points_from_range(np.ones((camera.height, camera.width)))[..., 0]
+    use_left = (x < 0) & (left > 0)
+    corner = np.where(use_left, left, np.where(x >= 0, right, 0.0))
+    corner = np.where((np.abs(v - 256) < 120) & (corner < 700), corner, 0.0).astype(np.float32)
+    ab = np.where(use_left, lambertian_ab(camera, corner, left_n),
+                  lambertian_ab(camera, corner, right_n)).astype(np.uint16)
+    corrected, stats = tofnav.remove_multipath(corner, ab, camera)
+    shift = np.where(corrected > 0, corner - corrected, np.nan)
+    centre_u = int(round(camera.principal_point_px[0]))
+    left_shift = np.nanmean(shift[200:312, centre_u - 60:centre_u - 10])
+    right_shift = np.nanmean(shift[200:312, centre_u + 10:centre_u + 60])
+    assert left_shift > 1.0 and right_shift > 1.0  # mm-level in a concave corner
+    assert abs(left_shift - right_shift) < 0.1 * left_shift  # the scene is mirror-symmetric
+    off = tofnav.MultipathCorrectionOptions(enabled=False)
+    same, _ = tofnav.remove_multipath(corner, ab, camera, off)
+    assert np.array_equal(same, corner)
+    with pytest.raises(ValueError):
+        tofnav.remove_multipath(corner, ab, camera, tofnav.MultipathCorrectionOptions(passes=0))
+    model = tofnav.DepthErrorModel()
+    assert not model.multipath.enabled  # a model says whether it was identified with it

@@ -20,9 +20,20 @@ CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
   model.Check();
   CorrectedFrame out;
   out.segmentation = SegmentFrame(frame, camera, options.segmentation);
-  const Image<float> measured = RangeAsFloat(frame.range_mm);
+  Image<float> measured = RangeAsFloat(frame.range_mm);
   out.normals =
       ComputeRangeNormals(SurfaceRange(measured, out.segmentation), camera, options.normals);
+  if (model.multipath.enabled) {
+    // Surface pixels only change; markers keep their measured range for Eq. (2).
+    const Image<float> surface = RemoveMultipath(SurfaceRange(measured, out.segmentation), frame.ab,
+                                                 camera, model.multipath, options.normals);
+    for (std::size_t i = 0; i < measured.size(); ++i) {
+      const auto label = static_cast<PixelClass>(out.segmentation.labels.pixels()[i]);
+      if (label != PixelClass::kMarker && label != PixelClass::kTransition) {
+        measured.pixels()[i] = surface.pixels()[i];
+      }
+    }
+  }
   const int w = measured.width(), h = measured.height();
   out.range_mm = Image<float>(w, h);
   for (int v = 0; v < h; ++v) {

@@ -7,6 +7,8 @@
 #include <string_view>
 #include <vector>
 
+#include "tofnav/correction/multipath_correction.hpp"
+
 namespace tofnav {
 
 /// How the incidence angle enters the model (beyond the paper: tof_physics.md section 11).
@@ -65,6 +67,10 @@ struct DepthErrorModel {
   double c3_mm = 0.0;           // mm per unit of g(theta) (mm/rad for kTheta)
   double c4_mm = 0.0;           // mm per unit of ln(AB_ref / AB)
   double ab_reference = 130.0;  // counts
+  /// Multipath removed from the measured range before Eq. (4) (and before the identification that
+  /// fitted C1..C4): the model holds only for ranges prepared the same way. Off for a model that
+  /// does not say (files written before it existed).
+  MultipathCorrectionOptions multipath = {.enabled = false};
   DepthModelFitReport report;
 
   /// g(theta) of the chosen angle term.

@@ -233,7 +233,11 @@ IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const Aha
   out.index = index;
   if (frame.world_from_rig) out.world_from_ahat = *frame.world_from_rig * camera.rig_from_ahat();
   const FrameSegmentation seg = SegmentFrame(frame, camera, sampling.segmentation);
-  const Image<float> surface_range = SurfaceRange(RangeAsFloat(frame.range_mm), seg);
+  Image<float> surface_range = SurfaceRange(RangeAsFloat(frame.range_mm), seg);
+  if (sampling.multipath.enabled) {
+    surface_range =
+        RemoveMultipath(surface_range, frame.ab, camera, sampling.multipath, sampling.normals);
+  }
   for (const MarkerArea& area : seg.markers) {
     if (!OnHead(area, seg, sampling)) continue;
     MarkerPatch patch = MakePatch(area, surface_range, seg, frame, camera, marker_model, sampling);

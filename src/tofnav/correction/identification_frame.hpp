@@ -64,6 +64,9 @@ struct IdentificationSampling {
   /// theta of the patch neighbours from the cubic surface fitted to them (SetIncidenceFromPatch-
   /// Surface) instead of per-pixel normals: unbiased by the range noise.
   bool incidence_from_patch_surface = true;
+  /// One-bounce multipath removed from the surface range before sampling (docs/correction.md 7);
+  /// the identified model carries these options so that correction prepares ranges the same way.
+  MultipathCorrectionOptions multipath;
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
 

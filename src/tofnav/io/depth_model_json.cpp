@@ -190,6 +190,55 @@ DepthModelFitReport ReportFromJson(const Json& json) {
   return r;
 }
 
+// The multipath removal the model was identified with (absent in files written before it: off).
+MultipathCorrectionOptions MultipathFromJson(const Json& j, const Path& path) {
+  MultipathCorrectionOptions o;
+  const std::string at = "model.multipath";
+  const Json& enabled = Member(j, "enabled", path, at);
+  if (!enabled.is_boolean()) throw IoError(path, std::nullopt, at + ".enabled: boolean");
+  o.enabled = enabled.get<bool>();
+  o.ab_scale = Number(Member(j, "ab_scale", path, at), path, at + ".ab_scale");
+  o.falloff_power = Number(Member(j, "falloff_power", path, at), path, at + ".falloff_power");
+  o.max_albedo = Number(Member(j, "max_albedo", path, at), path, at + ".max_albedo");
+  const auto integer = [&](const char* key) {
+    const double v = Number(Member(j, key, path, at), path, at + "." + key);
+    if (v != std::floor(v) || std::abs(v) > 1e6) {
+      throw IoError(path, std::nullopt, at + "." + key + ": an integer");
+    }
+    return static_cast<int>(v);
+  };
+  o.source_stride_px = integer("source_stride_px");
+  o.receiver_stride_px = integer("receiver_stride_px");
+  o.min_cos_incidence =
+      Number(Member(j, "min_cos_incidence", path, at), path, at + ".min_cos_incidence");
+  o.max_indirect_ratio =
+      Number(Member(j, "max_indirect_ratio", path, at), path, at + ".max_indirect_ratio");
+  o.passes = integer("passes");
+  o.alias_mm = Number(Member(j, "alias_mm", path, at), path, at + ".alias_mm");
+  try {
+    o.Check();
+  } catch (const std::invalid_argument& e) {
+    throw IoError(path, std::nullopt, at + ": " + e.what());
+  }
+  return o;
+}
+
+Json MultipathToJson(const MultipathCorrectionOptions& o) {
+  return Json{{"enabled", o.enabled},
+              {"ab_scale", o.ab_scale},
+              {"falloff_power", o.falloff_power},
+              {"max_albedo", o.max_albedo},
+              {"source_stride_px", o.source_stride_px},
+              {"receiver_stride_px", o.receiver_stride_px},
+              {"min_cos_incidence", o.min_cos_incidence},
+              {"max_indirect_ratio", o.max_indirect_ratio},
+              {"passes", o.passes},
+              {"alias_mm", o.alias_mm},
+              {"units",
+               "ab_scale: AB counts m^2 (AB = K rho cos(theta) cos^p(off-axis) / d^2); "
+               "strides: px; alias_mm: mm; docs/correction.md 7"}};
+}
+
 }  // namespace
 
 DepthModelFile DecodeDepthModelJson(std::string_view text, const Path& path) {
@@ -219,6 +268,9 @@ DepthModelFile DecodeDepthModelJson(std::string_view text, const Path& path) {
   } catch (const std::invalid_argument& e) {
     throw IoError(path, std::nullopt, std::string("invalid model: ") + e.what());
   }
+  if (const auto it = m.find("multipath"); it != m.end() && !it->is_null()) {
+    model.multipath = MultipathFromJson(*it, path);
+  }
   if (const auto it = json.find("marker_range"); it != json.end() && !it->is_null()) {
     file.marker_range = RangeFromJson(*it, path);
   }
@@ -247,6 +299,7 @@ std::string EncodeDepthModelJson(const DepthModelFile& file) {
                       std::string(AngleTermName(m.angle_term)) + ", theta in rad"},
         {"c4_mm", "mm per unit of ln(AB_ref / AB)"},
         {"ab_reference", "AB counts"}}}};
+  json["model"]["multipath"] = MultipathToJson(m.multipath);
   json["marker_range"] = file.marker_range ? RangeToJson(*file.marker_range) : Json();
   json["fit"] = ReportToJson(m.report);
   return json.dump(2) + "\n";

@@ -20,6 +20,9 @@ DepthModelFile Example() {
   file.model.c2 = 0.0071;
   file.model.c3_mm = 5.5;
   file.model.c4_mm = -0.3;
+  file.model.multipath.enabled = true;
+  file.model.multipath.ab_scale = 71.5;
+  file.model.multipath.passes = 3;
   file.model.report.method = "levenberg-marquardt";
   file.model.report.costs = "smoothness";
   file.model.report.frames = {{3, -1.0, 0.42, 4}, {7, 0.3, 0.5, 3}};
@@ -49,6 +52,24 @@ TEST(DepthModelJson, RoundTripsModelRangeAndReport) {
   EXPECT_TRUE(std::isnan(out.model.report.standard_errors[2]));
   EXPECT_EQ(out.model.report.cross_validation[0].first, "linear-theta");
   EXPECT_EQ(out.marker_range->bias_mm.x, in.marker_range->bias_mm.x);
+  EXPECT_TRUE(out.model.multipath.enabled);
+  EXPECT_EQ(out.model.multipath.ab_scale, 71.5);
+  EXPECT_EQ(out.model.multipath.passes, 3);
+  EXPECT_EQ(out.model.multipath.source_stride_px, in.model.multipath.source_stride_px);
+}
+
+TEST(DepthModelJson, AFileWithoutMultipathCorrectsWithoutIt) {
+  // Files written before the multipath removal existed: their coefficients were fitted on the
+  // measured ranges, so correction must not remove anything first.
+  std::string text = EncodeDepthModelJson(Example());
+  const auto at = text.find("\"multipath\"");
+  ASSERT_NE(at, std::string::npos);
+  const auto end = text.find('}', at);
+  text.erase(at, end + 1 - at);
+  // The member was the last of "model": drop the comma left before it.
+  const auto comma = text.rfind(',', at);
+  text.erase(comma, 1);
+  EXPECT_FALSE(DecodeDepthModelJson(text).model.multipath.enabled);
 }
 
 TEST(DepthModelJson, MalformedInputThrowsIoErrorNamingTheProblem) {
@@ -78,6 +99,13 @@ TEST(DepthModelJson, MalformedInputThrowsIoErrorNamingTheProblem) {
   std::string bad_knots = good;
   bad_knots.replace(bad_knots.find("700.0"), 5, "100.0");
   fails_with(bad_knots, "marker range");
+  std::string bad_passes = good;
+  bad_passes.replace(bad_passes.find("\"passes\": 3"), 11, "\"passes\": 0");
+  fails_with(bad_passes, "passes");
+  std::string bad_stride = good;
+  const std::string stride = "\"source_stride_px\": 16";
+  bad_stride.replace(bad_stride.find(stride), stride.size(), "\"source_stride_px\": 1.5");
+  fails_with(bad_stride, "integer");
 }
 
 }  // namespace

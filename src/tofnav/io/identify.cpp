@@ -46,6 +46,7 @@ IdentifyRecordingResult IdentifyFromRecording(
         CrossValidateModels(frames, nullptr, DefaultModelCandidates(), options.cross_validate_folds,
                             options.identification);
   }
+  model.multipath = options.sampling.multipath;
   result.file.marker_range = marker_range;
   return result;
 }

@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Removal of one-bounce diffuse multipath from an AHAT range image (docs/correction.md 7).
+#pragma once
+
+#include <cstdint>
+
+#include "tofnav/core/image.hpp"
+#include "tofnav/correction/range_normals.hpp"
+#include "tofnav/sensor/ahat_camera.hpp"
+
+namespace tofnav {
+
+/// The scene a frame sees lights itself: every surface the camera's source illuminates re-emits
+/// part of that light diffusely, and a pixel receives it on a longer path, which lengthens the
+/// range it measures (most where a bright board or pillow faces the head). The indirect light is
+/// predicted from the frame itself (Fuchs 2010): each block of pixels is an emitting patch at its
+/// measured position, with the albedo its AB implies, AB = K rho cos(theta) V / d^2, and its
+/// phasor is removed from each pixel's. The model and its figures: docs/correction.md 7.
+struct MultipathCorrectionOptions {
+  bool enabled = true;
+  /// K [counts m^2]: the AB of an albedo-1 Lambertian surface facing the camera on its axis at
+  /// 1 m, a constant of the device's illuminator (docs/correction.md 7.2).
+  double ab_scale = 65.0;
+  /// V = cos^p of the pixel's off-axis angle: the illuminator's fall-off, dimensionless.
+  double falloff_power = 2.0;
+  /// Estimated albedos are capped here (retro-reflective and saturated pixels read as far
+  /// brighter than any diffuse surface; what they return goes back to the source).
+  double max_albedo = 1.0;
+  int source_stride_px = 16;    // one emitting patch per block
+  int receiver_stride_px = 16;  // indirect light computed at block centres, interpolated between
+  /// Receivers seen at grazing incidence have their cos(theta) floored here (the ratio of
+  /// indirect to direct light grows as 1 / cos(theta)), dimensionless.
+  double min_cos_incidence = 0.1;
+  /// Pixels whose predicted indirect-to-direct ratio exceeds this are dropped (set to 0): the
+  /// correction is a first-order estimate and does not hold where the indirect light dominates.
+  double max_indirect_ratio = 0.5;
+  /// Passes of the fixed-point iteration: each predicts the indirect light from the previous
+  /// pass's corrected ranges (the measured ones are distorted by the multipath itself).
+  int passes = 2;
+  /// Phase-wrap distance of the modulation [mm].
+  double alias_mm = 1055.0;
+  void Check() const;  // throws std::invalid_argument naming the bad field
+};
+
+struct MultipathCorrectionStats {
+  std::int64_t pixels_corrected = 0;
+  std::int64_t pixels_dropped = 0;  // indirect-to-direct ratio above max_indirect_ratio
+  double mean_shift_mm = 0.0;       // mean of (measured - corrected) over the corrected pixels
+};
+
+/// The range image with the predicted one-bounce indirect light removed. `range_mm`: radial range
+/// [mm], 0 = invalid (pixels set to 0 there are neither emitters nor corrected: pass the surface
+/// range, markers removed, whose own retro-reflected return dwarfs the indirect light). Each
+/// pixel's incidence comes from normals of the range (`normal_options`; a pixel without one is
+/// corrected with min_cos_incidence); emitters and receivers take the plane of their block.
+/// Throws std::invalid_argument on bad options or sizes.
+Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint16_t>& ab,
+                             const AhatCamera& camera, const MultipathCorrectionOptions& options,
+                             const RangeNormalOptions& normal_options = {},
+                             MultipathCorrectionStats* stats = nullptr);
+
+}  // namespace tofnav
