@@ -209,10 +209,10 @@ py::tuple Multipath(const ArrayF& range_mm,
                     const std::optional<MultipathCorrectionOptions>& options,
                     const std::optional<RangeNormalOptions>& normal_options) {
   MultipathCorrectionStats stats;
-  const Image<float> out = RemoveMultipath(ImageFromArray<float>(range_mm, "range_mm"),
-                                           ImageFromArray<std::uint16_t>(ab, "ab"), camera,
-                                           options.value_or(MultipathCorrectionOptions{}),
-                                           normal_options.value_or(RangeNormalOptions{}), &stats);
+  const Image<float> out = RemoveMultipath(
+      ImageFromArray<float>(range_mm, "range_mm"), ImageFromArray<std::uint16_t>(ab, "ab"), camera,
+      options.value_or(MultipathCorrectionOptions{}), normal_options.value_or(RangeNormalOptions{}),
+      {}, &stats);
   py::dict s;
   s["pixels_corrected"] = stats.pixels_corrected;
   s["pixels_dropped"] = stats.pixels_dropped;

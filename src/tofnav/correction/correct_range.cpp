@@ -24,9 +24,17 @@ CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
   out.normals =
       ComputeRangeNormals(SurfaceRange(measured, out.segmentation), camera, options.normals);
   if (model.multipath.enabled) {
-    // Surface pixels only change; markers keep their measured range for Eq. (2).
-    const Image<float> surface = RemoveMultipath(SurfaceRange(measured, out.segmentation), frame.ab,
-                                                 camera, model.multipath, options.normals);
+    // Surface pixels only change; markers keep their measured range for Eq. (2). Only the pixels
+    // Eq. (4) corrects below are needed, and the normals are those of the same surface range.
+    Image<std::uint8_t> wanted(measured.width(), measured.height(), 0);
+    for (std::size_t i = 0; i < wanted.size(); ++i) {
+      const auto label = static_cast<PixelClass>(out.segmentation.labels.pixels()[i]);
+      wanted.pixels()[i] =
+          label == PixelClass::kHead || (label == PixelClass::kOutside && !options.roi_only);
+    }
+    const Image<float> surface =
+        RemoveMultipath(SurfaceRange(measured, out.segmentation), frame.ab, camera, model.multipath,
+                        options.normals, {&out.normals.normal, &wanted});
     for (std::size_t i = 0; i < measured.size(); ++i) {
       const auto label = static_cast<PixelClass>(out.segmentation.labels.pixels()[i]);
       if (label != PixelClass::kMarker && label != PixelClass::kTransition) {

@@ -235,8 +235,13 @@ IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const Aha
   const FrameSegmentation seg = SegmentFrame(frame, camera, sampling.segmentation);
   Image<float> surface_range = SurfaceRange(RangeAsFloat(frame.range_mm), seg);
   if (sampling.multipath.enabled) {
-    surface_range =
-        RemoveMultipath(surface_range, frame.ab, camera, sampling.multipath, sampling.normals);
+    // Only head pixels are sampled (the patches' neighbours and the ICP's points).
+    Image<std::uint8_t> wanted(surface_range.width(), surface_range.height(), 0);
+    for (std::size_t i = 0; i < wanted.size(); ++i) {
+      wanted.pixels()[i] = seg.labels.pixels()[i] == kHead;
+    }
+    surface_range = RemoveMultipath(surface_range, frame.ab, camera, sampling.multipath,
+                                    sampling.normals, {nullptr, &wanted});
   }
   for (const MarkerArea& area : seg.markers) {
     if (!OnHead(area, seg, sampling)) continue;

@@ -143,10 +143,11 @@ Complex IndirectIrradiance(const Eigen::Vector3d& point, const Eigen::Vector3d& 
 Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geometry,
                          const Image<std::uint16_t>& measured_ab, Image<float>& direct_ab,
                          const AhatCamera& camera, const MultipathCorrectionOptions& options,
-                         const RangeNormalOptions& normal_options,
+                         const RangeNormalOptions& normal_options, const MultipathHints& hints,
                          MultipathCorrectionStats* stats) {
-  const Image<Eigen::Vector3f> normal =
-      ComputeRangeNormals(geometry, camera, normal_options).normal;
+  Image<Eigen::Vector3f> computed;
+  if (!hints.normal) computed = ComputeRangeNormals(geometry, camera, normal_options).normal;
+  const Image<Eigen::Vector3f>& normal = hints.normal ? *hints.normal : computed;
   const Image<float>& range_mm = geometry;
   const int w = range_mm.width(), h = range_mm.height();
   const Image<float>& ab = direct_ab;
@@ -154,12 +155,26 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
   const double k = 2.0 * std::numbers::pi / (2.0 * options.alias_mm);
   const int stride = options.receiver_stride_px;
   const int cols = (w + stride - 1) / stride, rows = (h + stride - 1) / stride;
+  // Receivers needed: blocks with a wanted pixel and their neighbours (the interpolation's).
+  Image<std::uint8_t> needed(cols, rows, hints.wanted ? 0 : 1);
+  if (hints.wanted) {
+    for (int v = 0; v < h; ++v) {
+      for (int u = 0; u < w; ++u) {
+        if ((*hints.wanted)(u, v) == 0) continue;
+        const int bi = u / stride, bj = v / stride;
+        for (int j = std::max(bj - 1, 0); j <= std::min(bj + 1, rows - 1); ++j) {
+          for (int i = std::max(bi - 1, 0); i <= std::min(bi + 1, cols - 1); ++i) needed(i, j) = 1;
+        }
+      }
+    }
+  }
   // Indirect irradiance at the block centres that hold a surface with a normal.
   Image<Complex> irradiance(cols, rows, Complex(0.0));
   Image<double> valid(cols, rows, 0.0);
   ParallelFor(0, rows, [&](std::int64_t row) {
     const int j = static_cast<int>(row);
     for (int i = 0; i < cols; ++i) {
+      if (needed(i, j) == 0) continue;
       const auto receiver =
           BlockPatch(range_mm, ab, camera, options, i * stride, j * stride, stride);
       if (!receiver) continue;
@@ -184,6 +199,10 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
     for (int u = 0; u < w; ++u) {
       const double d = range_mm(u, v);
       if (d <= 0.0 || !camera.IsValid(u, v)) continue;
+      if (hints.wanted && (*hints.wanted)(u, v) == 0) {
+        out(u, v) = measured(u, v);
+        continue;
+      }
       const double x = (u + 0.5) / stride - 0.5;
       const int i0 = std::clamp(static_cast<int>(std::floor(x)), 0, cols - 1);
       const int i1 = std::min(i0 + 1, cols - 1);
@@ -248,12 +267,16 @@ void MultipathCorrectionOptions::Check() const {
 
 Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint16_t>& ab,
                              const AhatCamera& camera, const MultipathCorrectionOptions& options,
-                             const RangeNormalOptions& normal_options,
+                             const RangeNormalOptions& normal_options, const MultipathHints& hints,
                              MultipathCorrectionStats* stats) {
   options.Check();
   const int w = range_mm.width(), h = range_mm.height();
   if (ab.width() != w || ab.height() != h || camera.width() != w || camera.height() != h) {
     throw std::invalid_argument("RemoveMultipath: range, AB and camera sizes differ");
+  }
+  if ((hints.normal && (hints.normal->width() != w || hints.normal->height() != h)) ||
+      (hints.wanted && (hints.wanted->width() != w || hints.wanted->height() != h))) {
+    throw std::invalid_argument("RemoveMultipath: the hints' sizes differ from the range's");
   }
   if (stats) *stats = {};
   if (!options.enabled) return range_mm;
@@ -264,8 +287,13 @@ Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint
   Image<float> direct_ab(w, h);
   for (std::size_t i = 0; i < direct_ab.size(); ++i) direct_ab.pixels()[i] = ab.pixels()[i];
   for (int pass = 0; pass < options.passes; ++pass) {
-    corrected =
-        CorrectOnce(range_mm, corrected, ab, direct_ab, camera, options, normal_options, stats);
+    // The first pass has the caller's normals; every pass but the last corrects every pixel (the
+    // next pass's emitters).
+    MultipathHints pass_hints;
+    if (pass == 0) pass_hints.normal = hints.normal;
+    if (pass + 1 == options.passes) pass_hints.wanted = hints.wanted;
+    corrected = CorrectOnce(range_mm, corrected, ab, direct_ab, camera, options, normal_options,
+                            pass_hints, stats);
   }
   return corrected;
 }

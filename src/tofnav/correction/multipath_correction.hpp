@@ -48,6 +48,16 @@ struct MultipathCorrectionStats {
   double mean_shift_mm = 0.0;       // mean of (measured - corrected) over the corrected pixels
 };
 
+/// What RemoveMultipath may reuse or skip.
+struct MultipathHints {
+  /// Normals of `range_mm` computed with the same RangeNormalOptions: the first pass uses them
+  /// instead of computing its own.
+  const Image<Eigen::Vector3f>* normal = nullptr;
+  /// Nonzero where the corrected range is needed: the last pass predicts the indirect light only
+  /// around these pixels, and every other pixel keeps its measured range. Null: every pixel.
+  const Image<std::uint8_t>* wanted = nullptr;
+};
+
 /// The range image with the predicted one-bounce indirect light removed. `range_mm`: radial range
 /// [mm], 0 = invalid (pixels set to 0 there are neither emitters nor corrected: pass the surface
 /// range, markers removed, whose own retro-reflected return dwarfs the indirect light). Each
@@ -57,6 +67,7 @@ struct MultipathCorrectionStats {
 Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint16_t>& ab,
                              const AhatCamera& camera, const MultipathCorrectionOptions& options,
                              const RangeNormalOptions& normal_options = {},
+                             const MultipathHints& hints = {},
                              MultipathCorrectionStats* stats = nullptr);
 
 }  // namespace tofnav

@@ -98,7 +98,7 @@ TEST(RemoveMultipath, TakesAConcaveCornersIndirectLightOut) {
   MultipathCorrectionStats stats;
   const Image<float> corrected =
       RemoveMultipath(RangeAsFloat(on.frame.range_mm), on.frame.ab, TestCamera(),
-                      OptionsFor(sim::IdealRenderOptions()), {}, &stats);
+                      OptionsFor(sim::IdealRenderOptions()), {}, {}, &stats);
   const Residual r = Compare(on, off, corrected);
   RecordProperty("shift_before_mm", std::to_string(r.before_mm));
   RecordProperty("residual_mean_mm", std::to_string(r.after_mm));
@@ -121,11 +121,37 @@ TEST(RemoveMultipath, LeavesAConvexCornerAndAFlatBoardAlone) {
     const Image<float> measured = RangeAsFloat(on.frame.range_mm);
     MultipathCorrectionStats stats;
     const Image<float> corrected = RemoveMultipath(
-        measured, on.frame.ab, TestCamera(), OptionsFor(sim::IdealRenderOptions()), {}, &stats);
+        measured, on.frame.ab, TestCamera(), OptionsFor(sim::IdealRenderOptions()), {}, {}, &stats);
     EXPECT_GT(stats.pixels_corrected, 10000) << board;
     EXPECT_LT(std::abs(stats.mean_shift_mm), kToleranceMm) << board;
     EXPECT_EQ(stats.pixels_dropped, 0) << board;
   }
+}
+
+TEST(RemoveMultipath, HintsGiveTheSameRangesWhereWantedAndLeaveTheRestMeasured) {
+  const sim::RenderResult on = Render(CornerScene(true), 1.0);
+  const Image<float> measured = RangeAsFloat(on.frame.range_mm);
+  const MultipathCorrectionOptions options = OptionsFor(sim::IdealRenderOptions());
+  const Image<float> full = RemoveMultipath(measured, on.frame.ab, TestCamera(), options);
+  const Image<Eigen::Vector3f> normal = ComputeRangeNormals(measured, TestCamera()).normal;
+  Image<std::uint8_t> wanted(measured.width(), measured.height(), 0);
+  for (int v = 0; v < wanted.height(); ++v) {
+    for (int u = 0; u < CentrePixel().x(); ++u) wanted(u, v) = 1;  // the left wall
+  }
+  const Image<float> hinted =
+      RemoveMultipath(measured, on.frame.ab, TestCamera(), options, {}, {&normal, &wanted});
+  int compared = 0;
+  for (int v = 0; v < measured.height(); ++v) {
+    for (int u = 0; u < measured.width(); ++u) {
+      if (wanted(u, v) != 0) {
+        ASSERT_EQ(hinted(u, v), full(u, v)) << u << ", " << v;
+        compared += measured(u, v) > 0.0f;
+      } else {
+        ASSERT_EQ(hinted(u, v), measured(u, v)) << u << ", " << v;
+      }
+    }
+  }
+  EXPECT_GT(compared, 10000);
 }
 
 TEST(RemoveMultipath, OffReturnsTheRangeUnchangedAndBadInputIsRefused) {
