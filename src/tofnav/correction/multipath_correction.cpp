@@ -84,7 +84,8 @@ std::optional<Patch> BlockPatch(const Image<float>& range, const Image<float>& a
       const Eigen::Vector3d p = d * ray;
       sum += p;
       outer += p * p.transpose();
-      const double falloff = std::pow(std::max(ray.z(), 1e-3), o.falloff_power);
+      const double z = std::max(ray.z(), 1e-3);
+      const double falloff = o.falloff_power == 2.0 ? z * z : std::pow(z, o.falloff_power);
       const double d_m = d * 1e-3;
       reflectance_sum += ab(u, v) * d_m * d_m / (o.ab_scale * falloff);
       ++count;
@@ -106,16 +107,23 @@ std::optional<Patch> BlockPatch(const Image<float>& range, const Image<float>& a
                block_omega * d_centre * d_centre / cos_theta};
 }
 
-std::vector<Patch> SamplePatches(const Image<float>& range, const Image<float>& ab,
-                                 const AhatCamera& camera, const MultipathCorrectionOptions& o) {
-  std::vector<Patch> patches;
-  const int s = o.source_stride_px;
-  for (int v0 = 0; v0 < range.height(); v0 += s) {
-    for (int u0 = 0; u0 < range.width(); u0 += s) {
-      if (auto p = BlockPatch(range, ab, camera, o, u0, v0, s)) patches.push_back(*p);
+// The patch of every stride x stride block, row by row (nullopt where a block has none).
+std::vector<std::optional<Patch>> BlockGrid(const Image<float>& range, const Image<float>& ab,
+                                            const AhatCamera& camera,
+                                            const MultipathCorrectionOptions& o, int stride,
+                                            const Image<std::uint8_t>* needed = nullptr) {
+  const int cols = (range.width() + stride - 1) / stride,
+            rows = (range.height() + stride - 1) / stride;
+  std::vector<std::optional<Patch>> grid(static_cast<std::size_t>(cols) * rows);
+  ParallelFor(0, rows, [&](std::int64_t row) {
+    const int j = static_cast<int>(row);
+    for (int i = 0; i < cols; ++i) {
+      if (needed && (*needed)(i, j) == 0) continue;
+      grid[static_cast<std::size_t>(j) * cols + i] =
+          BlockPatch(range, ab, camera, o, i * stride, j * stride, stride);
     }
-  }
-  return patches;
+  });
+  return grid;
 }
 
 // Indirect irradiance at a receiver per unit source intensity, (1 / pi) sum_j rho_j Omega_j
@@ -145,13 +153,15 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
                          const AhatCamera& camera, const MultipathCorrectionOptions& options,
                          const RangeNormalOptions& normal_options, const MultipathHints& hints,
                          MultipathCorrectionStats* stats) {
-  Image<Eigen::Vector3f> computed;
-  if (!hints.normal) computed = ComputeRangeNormals(geometry, camera, normal_options).normal;
-  const Image<Eigen::Vector3f>& normal = hints.normal ? *hints.normal : computed;
   const Image<float>& range_mm = geometry;
   const int w = range_mm.width(), h = range_mm.height();
   const Image<float>& ab = direct_ab;
-  const std::vector<Patch> patches = SamplePatches(range_mm, ab, camera, options);
+  const std::vector<std::optional<Patch>> sources =
+      BlockGrid(range_mm, ab, camera, options, options.source_stride_px);
+  std::vector<Patch> patches;
+  for (const auto& p : sources) {
+    if (p) patches.push_back(*p);
+  }
   const double k = 2.0 * std::numbers::pi / (2.0 * options.alias_mm);
   const int stride = options.receiver_stride_px;
   const int cols = (w + stride - 1) / stride, rows = (h + stride - 1) / stride;
@@ -168,15 +178,39 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
       }
     }
   }
-  // Indirect irradiance at the block centres that hold a surface with a normal.
+  // Per-pixel normals, where needed: the range outside the needed blocks is left out of them (a
+  // block's margin is wider than the normals' smoothing and differencing reach, so the wanted
+  // pixels' normals are those of the whole range).
+  Image<Eigen::Vector3f> computed;
+  if (!hints.normal) {
+    const int reach = normal_options.smoothing_radius_px + normal_options.difference_step_px;
+    if (hints.wanted && reach < stride) {
+      Image<float> near = geometry;
+      for (int v = 0; v < h; ++v) {
+        for (int u = 0; u < w; ++u) {
+          if (needed(u / stride, v / stride) == 0) near(u, v) = 0.0f;
+        }
+      }
+      computed = ComputeRangeNormals(near, camera, normal_options).normal;
+    } else {
+      computed = ComputeRangeNormals(geometry, camera, normal_options).normal;
+    }
+  }
+  const Image<Eigen::Vector3f>& normal = hints.normal ? *hints.normal : computed;
+  // Indirect irradiance at the block centres that hold a surface (the emitters' grid when the
+  // strides agree).
+  const std::vector<std::optional<Patch>> receivers =
+      stride == options.source_stride_px
+          ? std::vector<std::optional<Patch>>()
+          : BlockGrid(range_mm, ab, camera, options, stride, &needed);
+  const std::vector<std::optional<Patch>>& grid = receivers.empty() ? sources : receivers;
   Image<Complex> irradiance(cols, rows, Complex(0.0));
   Image<double> valid(cols, rows, 0.0);
   ParallelFor(0, rows, [&](std::int64_t row) {
     const int j = static_cast<int>(row);
     for (int i = 0; i < cols; ++i) {
       if (needed(i, j) == 0) continue;
-      const auto receiver =
-          BlockPatch(range_mm, ab, camera, options, i * stride, j * stride, stride);
+      const std::optional<Patch>& receiver = grid[static_cast<std::size_t>(j) * cols + i];
       if (!receiver) continue;
       irradiance(i, j) = IndirectIrradiance(receiver->point, receiver->normal, patches, k);
       valid(i, j) = 1.0;
