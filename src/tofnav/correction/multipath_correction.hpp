@@ -54,7 +54,8 @@ struct MultipathHints {
   /// instead of computing its own.
   const Image<Eigen::Vector3f>* normal = nullptr;
   /// Nonzero where the corrected range is needed: the last pass predicts the indirect light only
-  /// around these pixels, and every other pixel keeps its measured range. Null: every pixel.
+  /// around these pixels, and every other pixel keeps its measured range (0 where an earlier pass
+  /// dropped it). Null: every pixel.
   const Image<std::uint8_t>* wanted = nullptr;
 };
 
