@@ -143,9 +143,12 @@ int RunReconstruct(int argc, char** argv) {
     Require(calibration.has_value(), "the recording has no calibration: give --calibration DIR");
   }
   const AhatCamera camera(*calibration);
+  bool multipath_removed = false;  // the depth model says (docs/correction.md 7)
   if (!depth_model_path.empty()) {
     correct.max_incidence_rad = max_incidence_deg * std::numbers::pi / 180.0;
-    UseDepthModel(ReadDepthModelJson(depth_model_path), options, correct);
+    const DepthModelFile model = ReadDepthModelJson(depth_model_path);
+    multipath_removed = model.model.multipath.enabled;
+    UseDepthModel(model, options, correct);
   }
   if (!marker_error_path.empty())
     options.marker_error = ReadMarkerRangeJson(marker_error_path).model;
@@ -168,6 +171,7 @@ int RunReconstruct(int argc, char** argv) {
         {"out", out_path.string()},
         {"tool", tool.name},
         {"depth_model", depth_model_path.string()},
+        {"multipath_removed", multipath_removed},
         {"marker_error", !options.marker_error.empty()},
         {"frames", r.frames_considered},
         {"frames_fused", r.frames_fused},
@@ -215,6 +219,8 @@ int RunReconstruct(int argc, char** argv) {
             << "  ROI (" << (r.roi_automatic ? "automatic" : "given") << ") ["
             << r.roi_in_tool.min().transpose() << "] - [" << r.roi_in_tool.max().transpose()
             << "] mm in " << tool.name << "\n"
+            << "  multipath " << (multipath_removed ? "removed" : "not removed")
+            << " before the depth model (docs/correction.md 7)\n"
             << "  " << r.total_s << " s (" << rate << " frames/s): fusion " << fuse_ms
             << " ms/frame, markers and ranges " << r.prepare_s << " s, poses " << r.track_s
             << " s, reading " << r.read_s << " s, meshing " << 1e3 * r.mesh_s << " ms\n";
