@@ -21,8 +21,8 @@ CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
   CorrectedFrame out;
   out.segmentation = SegmentFrame(frame, camera, options.segmentation);
   Image<float> measured = RangeAsFloat(frame.range_mm);
-  out.normals =
-      ComputeRangeNormals(SurfaceRange(measured, out.segmentation), camera, options.normals);
+  const Image<float> surface_measured = SurfaceRange(measured, out.segmentation);
+  out.normals = ComputeRangeNormals(surface_measured, camera, options.normals);
   if (model.multipath.enabled) {
     // Surface pixels only change; markers keep their measured range for Eq. (2). Only the pixels
     // Eq. (4) corrects below are needed, and the normals are those of the same surface range.
@@ -33,8 +33,8 @@ CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
           label == PixelClass::kHead || (label == PixelClass::kOutside && !options.roi_only);
     }
     const Image<float> surface =
-        RemoveMultipath(SurfaceRange(measured, out.segmentation), frame.ab, camera, model.multipath,
-                        options.normals, {&out.normals.normal, &wanted});
+        RemoveMultipath(surface_measured, frame.ab, camera, model.multipath, options.normals,
+                        {&out.normals.normal, &wanted});
     for (std::size_t i = 0; i < measured.size(); ++i) {
       const auto label = static_cast<PixelClass>(out.segmentation.labels.pixels()[i]);
       if (label != PixelClass::kMarker && label != PixelClass::kTransition) {

@@ -153,11 +153,9 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
                          const AhatCamera& camera, const MultipathCorrectionOptions& options,
                          const RangeNormalOptions& normal_options, const MultipathHints& hints,
                          MultipathCorrectionStats* stats) {
-  const Image<float>& range_mm = geometry;
-  const int w = range_mm.width(), h = range_mm.height();
-  const Image<float>& ab = direct_ab;
+  const int w = geometry.width(), h = geometry.height();
   const std::vector<std::optional<Patch>> sources =
-      BlockGrid(range_mm, ab, camera, options, options.source_stride_px);
+      BlockGrid(geometry, direct_ab, camera, options, options.source_stride_px);
   std::vector<Patch> patches;
   for (const auto& p : sources) {
     if (p) patches.push_back(*p);
@@ -202,7 +200,7 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
   const std::vector<std::optional<Patch>> receivers =
       stride == options.source_stride_px
           ? std::vector<std::optional<Patch>>()
-          : BlockGrid(range_mm, ab, camera, options, stride, &needed);
+          : BlockGrid(geometry, direct_ab, camera, options, stride, &needed);
   const std::vector<std::optional<Patch>>& grid = receivers.empty() ? sources : receivers;
   Image<Complex> irradiance(cols, rows, Complex(0.0));
   Image<double> valid(cols, rows, 0.0);
@@ -231,7 +229,7 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
     const int j1 = std::min(j0 + 1, rows - 1);
     const double fy = std::clamp(y - j0, 0.0, 1.0);
     for (int u = 0; u < w; ++u) {
-      const double d = range_mm(u, v);
+      const double d = geometry(u, v);
       if (d <= 0.0 || !camera.IsValid(u, v)) continue;
       if (hints.wanted && (*hints.wanted)(u, v) == 0) {
         out(u, v) = measured(u, v);
