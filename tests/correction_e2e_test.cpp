@@ -164,8 +164,9 @@ TEST(CorrectionE2e, WithMultipathTheRemovalKeepsTheHeadWithinHalfAMillimetre) {
   };
   const auto [before, with_removal] = after_with(true);
   const double without_removal = after_with(false).second;
-  std::printf("head median error with multipath: before %.2f, after %.2f (without removal %.2f) mm\n",
-              before, with_removal, without_removal);
+  std::printf(
+      "head median error with multipath: before %.2f, after %.2f (without removal %.2f) mm\n",
+      before, with_removal, without_removal);
   RecordProperty("after_with_removal_mm", std::to_string(with_removal));
   RecordProperty("after_without_removal_mm", std::to_string(without_removal));
   EXPECT_LT(std::abs(with_removal), kAfterMm);
