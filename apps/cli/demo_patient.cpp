@@ -132,6 +132,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
                     {"frames_left_out", m.report.frames_left_out},
                     {"marker_observations", m.report.marker_observations},
                     {"marker_observations_rejected", m.report.marker_observations_rejected},
+                    {"marker_observations_curved", m.report.marker_observations_curved},
                     {"seconds", m.report.seconds}};
   stage["depth_model_json"] = "depth_model.json";
 

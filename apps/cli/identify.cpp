@@ -30,7 +30,8 @@ void PrintLeftOut(const DepthModelFitReport& r) {
             << "  markers: " << r.markers.size() << " seen in " << r.marker_observations
             << " observations; " << r.marker_observations_rejected
             << " observations left out as not on the skin, " << r.marker_patches_screened_out
-            << " with foreground around them\n";
+            << " with foreground around them; " << r.marker_observations_curved
+            << " markers on the head left out as too curved for a sticker (a tool's sphere)\n";
   for (std::size_t i = 0; i < r.markers.size(); ++i) {
     const StickerUse& m = r.markers[i];
     if (m.rejected == 0) continue;

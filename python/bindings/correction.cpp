@@ -39,6 +39,7 @@ py::dict FitReportDict(const DepthErrorModel& model) {
   out["frames_left_out"] = r.frames_left_out;
   out["marker_observations"] = r.marker_observations;
   out["marker_observations_rejected"] = r.marker_observations_rejected;
+  out["marker_observations_curved"] = r.marker_observations_curved;
   out["evaluations"] = r.evaluations;
   out["initial_cost"] = r.initial_cost;
   out["final_cost"] = r.final_cost;

@@ -54,7 +54,9 @@ void DefineIdentificationOptions(py::module_& m) {
       .def_readwrite("max_head_points", &IdentificationSampling::max_head_points)
       .def_readwrite("min_outlier_mm", &IdentificationSampling::min_outlier_mm)
       .def_readwrite("marker_ring_px", &IdentificationSampling::marker_ring_px)
-      .def_readwrite("min_marker_head_fraction", &IdentificationSampling::min_marker_head_fraction);
+      .def_readwrite("min_marker_head_fraction", &IdentificationSampling::min_marker_head_fraction)
+      .def_readwrite("max_sticker_curvature_per_mm",
+                     &IdentificationSampling::max_sticker_curvature_per_mm);
   OptionsClass<IdentificationOptions>(m, "IdentificationOptions", "IdentifyDepthModel options")
       .def_readwrite("marker_thickness_mm", &IdentificationOptions::marker_thickness_mm)
       .def_readwrite("huber_scale_mm", &IdentificationOptions::huber_scale_mm)

@@ -41,6 +41,7 @@ struct DepthModelFitReport {
   int frames_left_out = 0;       // screened out whole: foreground (a hand) in front of the head
   int head_points_left_out = 0;  // foreground points removed from the frames kept
   int marker_patches_screened_out = 0;   // patches whose surroundings were foreground
+  int marker_observations_curved = 0;    // markers on the head too curved for a sticker (a sphere)
   int marker_observations = 0;           // marker patches (a marker in a frame) in the first fit
   int marker_observations_rejected = 0;  // of those, left out as not on the skin (second fit)
   std::vector<StickerUse> markers;       // per physical marker

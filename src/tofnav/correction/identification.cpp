@@ -299,6 +299,7 @@ DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
   rep.frames_left_out = screening.frames_left_out;
   rep.head_points_left_out = screening.head_points_left_out;
   rep.marker_patches_screened_out = screening.marker_patches_left_out;
+  for (const IdentificationFrame& f : frames) rep.marker_observations_curved += f.curved_markers;
   rep.marker_observations = patches;
   rep.marker_observations_rejected = rejected;
   const std::vector<std::vector<int>> ids =

@@ -3,6 +3,7 @@
 #include "tofnav/correction/identification_frame.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <Eigen/QR>
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -117,6 +118,27 @@ bool OnHead(const MarkerArea& area, const FrameSegmentation& seg, const Identifi
   return ring > 0 && head >= s.min_marker_head_fraction * ring;
 }
 
+// k of z = c0 + c1 x + c2 y + k (x^2 + y^2) fitted to the points in their own principal plane
+// [1/mm]: half the mean curvature of the marker's surface; 0 with fewer than 6 points.
+double MarkerCurvaturePerMm(const Points3d& points) {
+  if (points.size() < 6) return 0.0;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : points) cov += (p - mean) * (p - mean).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(cov);
+  const Eigen::Matrix3d axes = pca.eigenvectors();  // column 0: the normal
+  Eigen::MatrixXd a(static_cast<Eigen::Index>(points.size()), 4);
+  Eigen::VectorXd z(a.rows());
+  for (Eigen::Index i = 0; i < a.rows(); ++i) {
+    const Eigen::Vector3d q = axes.transpose() * (points[static_cast<std::size_t>(i)] - mean);
+    a.row(i) << 1.0, q.y(), q.z(), q.y() * q.y() + q.z() * q.z();
+    z(i) = q.x();
+  }
+  return std::abs(a.colPivHouseholderQr().solve(z)(3));
+}
+
 MarkerPatch MakePatch(const MarkerArea& area, const Image<float>& surface_range,
                       const FrameSegmentation& seg, const AhatFrame& frame,
                       const AhatCamera& camera, const MarkerRangeModel& marker_model,
@@ -169,9 +191,11 @@ void IdentificationSampling::Check() const {
         "IdentificationSampling: need patch_radius_mm > 0, 10 <= min_patch_points <= "
         "max_patch_points, max_marker_points >= 1, max_head_points >= 10");
   }
-  if (marker_ring_px < 1 || !(min_marker_head_fraction >= 0.0 && min_marker_head_fraction <= 1.0)) {
+  if (marker_ring_px < 1 || !(min_marker_head_fraction >= 0.0 && min_marker_head_fraction <= 1.0) ||
+      !(max_sticker_curvature_per_mm > 0.0)) {
     throw std::invalid_argument(
-        "IdentificationSampling: need marker_ring_px >= 1 and min_marker_head_fraction in [0, 1]");
+        "IdentificationSampling: need marker_ring_px >= 1, min_marker_head_fraction in [0, 1] and "
+        "max_sticker_curvature_per_mm > 0");
   }
 }
 
@@ -246,6 +270,10 @@ IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const Aha
   for (const MarkerArea& area : seg.markers) {
     if (!OnHead(area, seg, sampling)) continue;
     MarkerPatch patch = MakePatch(area, surface_range, seg, frame, camera, marker_model, sampling);
+    if (MarkerCurvaturePerMm(patch.marker_points) > sampling.max_sticker_curvature_per_mm) {
+      ++out.curved_markers;  // a tool's sphere against the skin, not a sticker
+      continue;
+    }
     out.marker_points.insert(out.marker_points.end(), patch.marker_points.begin(),
                              patch.marker_points.end());
     if (static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) {

@@ -45,6 +45,7 @@ struct IdentificationFrame {
   std::vector<SurfaceSample> head;         // subsampled head surface for the ICP of Err_C (Eq. 5)
   Points3d marker_points;                  // every marker's Eq. (2)-corrected points, `ahat` [mm]
   std::optional<Rigid3d> world_from_ahat;  // from the frame's rig pose, when it has one
+  int curved_markers = 0;                  // markers on the head left out as too curved
 };
 
 struct IdentificationSampling {
@@ -59,6 +60,11 @@ struct IdentificationSampling {
   /// just outside their transitional band is head: stickers on the skin, not a tool's markers.
   int marker_ring_px = 3;
   double min_marker_head_fraction = 0.5;
+  /// A sticker follows the skin; a tool's sphere seen against the skin does not. Markers whose
+  /// Eq. (2)-corrected points bend more than this (k of z = k (x^2 + y^2) in their own plane,
+  /// k = 1 / (2 R): 0.04 is a radius of curvature of 12.5 mm) are left out [1/mm]. Measured on
+  /// a suite case: stickers <= 0.03, 11.5 mm spheres >= 0.055 (docs/correction.md 2).
+  double max_sticker_curvature_per_mm = 0.04;
   /// Outliers (judged on the measured points) lie beyond max(3 x 1.4826 MAD, this) [mm].
   double min_outlier_mm = 1.5;
   /// theta of the patch neighbours from the cubic surface fitted to them (SetIncidenceFromPatch-

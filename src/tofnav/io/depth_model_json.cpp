@@ -143,6 +143,7 @@ DepthModelFitReport ReportFromJson(const Json& json) {
   num(json, "frames_left_out", r.frames_left_out);
   num(json, "head_points_left_out", r.head_points_left_out);
   num(json, "marker_patches_screened_out", r.marker_patches_screened_out);
+  num(json, "marker_observations_curved", r.marker_observations_curved);
   num(json, "marker_observations", r.marker_observations);
   num(json, "markers_rejected", r.marker_observations_rejected);  // written before 2026-11-26
   num(json, "marker_observations_rejected", r.marker_observations_rejected);
@@ -324,6 +325,7 @@ Json LeftOutToJson(const DepthModelFitReport& r) {
   return Json{{"frames_left_out", r.frames_left_out},
               {"head_points_left_out", r.head_points_left_out},
               {"marker_patches_screened_out", r.marker_patches_screened_out},
+              {"marker_observations_curved", r.marker_observations_curved},
               {"marker_observations", r.marker_observations},
               {"marker_observations_rejected", r.marker_observations_rejected},
               {"markers", markers}};
