@@ -29,6 +29,21 @@ bool Shares(const ToolCandidate& a, const ToolCandidate& b) {
   });
 }
 
+// True when `other` claims a strict subset of the detections of `full`, which matches every
+// marker of its tool: `full` explains each of those blobs and the rest too, while `other` must
+// also claim an occlusion of its unseen markers. A 3-marker triangle of one tool that happens to
+// fit 3 markers of another (at 700 mm the tolerance admits that) is then no rival.
+bool Dominates(const ToolCandidate& full, std::size_t full_markers, const ToolCandidate& other) {
+  if (full.visible != static_cast<int>(full_markers) ||
+      other.visible >= static_cast<int>(other.scene_index.size())) {
+    return false;
+  }
+  return std::all_of(other.scene_index.begin(), other.scene_index.end(), [&](int s) {
+    return s < 0 ||
+           std::find(full.scene_index.begin(), full.scene_index.end(), s) != full.scene_index.end();
+  });
+}
+
 // Replaces the matched Kabsch pose by FitToolMarkers': the markers it should use, refined.
 void FitUsed(std::span<const DetectedMarker> detections, const Points3d& centres,
              const ToolGeometry& tool, const ToolPoseOptions& options,
@@ -76,7 +91,7 @@ class Arbiter {
 
   std::vector<ToolPoseResult> Run() {
     for (const Scored& s : scored_) {
-      if (resolved_[s.tool] || Uses(Candidate(s), used_)) continue;
+      if (resolved_[s.tool] || Uses(Candidate(s), used_) || Dominated(s)) continue;
       Decide(s);
     }
     const int free = static_cast<int>(std::count(used_.begin(), used_.end(), false));
@@ -110,6 +125,14 @@ class Arbiter {
     return score;
   }
 
+  // Another tool has a candidate that sees all its markers on a superset of this one's blobs.
+  bool Dominated(const Scored& s) const {
+    return std::any_of(scored_.begin(), scored_.end(), [&](const Scored& o) {
+      return o.tool != s.tool &&
+             Dominates(Candidate(o), tools_[o.tool].markers_in_tool.size(), Candidate(s));
+    });
+  }
+
   bool Distinct(const ToolCandidate& a, const ToolCandidate& b) const {
     const Rigid3d& pa = a.fit.target_from_source;
     const Rigid3d& pb = b.fit.target_from_source;
@@ -125,7 +148,8 @@ class Arbiter {
     std::vector<std::size_t> rivals;
     for (const Scored& s : scored_) {
       if (&Candidate(s) == &c || resolved_[s.tool] || Uses(Candidate(s), used_)) continue;
-      const bool rival = s.tool == best.tool ? Distinct(c, Candidate(s)) : Shares(c, Candidate(s));
+      const bool rival = s.tool == best.tool ? Distinct(c, Candidate(s))
+                                             : Shares(c, Candidate(s)) && !Dominated(s);
       if (!rival) continue;
       margin = std::min(margin, s.score - best.score);
       if (s.tool != best.tool && s.score - best.score < options_.ambiguity_margin_mm) {

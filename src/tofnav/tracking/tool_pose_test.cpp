@@ -110,6 +110,33 @@ TEST(EstimateToolPoses, FlagsSymmetryAndTwinToolsAsAmbiguousUnlessThePriorDecide
   }
 }
 
+TEST(EstimateToolPoses, AToolSeenWholeIsNotAmbiguousWithAnotherToolsTriangleOfIt) {
+  // The second tool's markers are three of the first's (its fourth elsewhere): seeing all four of
+  // the first, the second's 3-marker fit on those blobs explains less and needs an occlusion.
+  const ToolGeometry whole = ReferenceTool();
+  ToolGeometry triangle = whole;
+  triangle.name = "triangle";
+  triangle.markers_in_tool[3] = {0.0, 0.0, 40.0};  // off the plane: never among the four blobs
+  std::mt19937_64 rng(8);
+  const Rigid3d truth = testing::FacingToolPose({0, 0, 700}, 0.2, -0.1);
+  // At 700 mm a blob's centre can be 1.5 mm off: the whole tool's FRE (about 0.6 mm) then
+  // exceeds the triangle's on the three good blobs plus its occlusion penalty (0.5 mm).
+  const Eigen::Vector3d shifted = truth * whole.markers_in_tool[3] + Eigen::Vector3d(1.5, 0, 0);
+  std::vector<DetectedMarker> d = ToolDetections(whole, truth, 0.02, rng);
+  d[3] = testing::DetectionAt(shifted, whole.SurfaceToCentreMm());
+  const ToolGeometry tools[] = {whole, triangle};
+  const std::vector<ToolPoseResult> r = EstimateToolPoses(d, tools);
+  ASSERT_EQ(r[0].status, ToolStatus::kOk);
+  EXPECT_THAT(*r[0].ahat_from_tool, RigidNear(truth, 2.0 * kPoseRotTolRad, kPoseTransTolMm));
+  EXPECT_NE(r[1].status, ToolStatus::kOk);
+  EXPECT_NE(r[1].status, ToolStatus::kPartiallyOccluded);
+  // With only the shared three blobs in view, either tool could be there: reported, not guessed.
+  d.pop_back();
+  for (const ToolPoseResult& t : EstimateToolPoses(d, tools)) {
+    EXPECT_EQ(t.status, ToolStatus::kAmbiguous);
+  }
+}
+
 TEST(EstimateToolPoses, RejectsTheMirrorTwinAndBadInput) {
   ToolGeometry mirror = ReferenceTool();
   mirror.name = "mirror";
