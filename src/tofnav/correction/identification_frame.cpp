@@ -28,19 +28,26 @@ std::optional<SurfaceSample> Sample(const Image<float>& surface_range, const Aha
                        static_cast<float>(frame.ab(u, v))};
 }
 
+// Centroid and principal axes of the points (columns by ascending variance: column 0 is the
+// normal of their best plane).
+std::pair<Eigen::Vector3d, Eigen::Matrix3d> PrincipalAxes(const Points3d& points) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3d& p : points) cov += (p - mean) * (p - mean).transpose();
+  return {mean, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors()};
+}
+
 // Local frame of a patch from its measured points: centroid and PCA axes (z = least variance,
 // turned towards the camera).
 void SetLocalFrame(MarkerPatch& patch) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const SurfaceSample& s : patch.neighbours) mean += (s.ray * s.range_mm).cast<double>();
-  mean /= static_cast<double>(patch.neighbours.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  Points3d points;
+  points.reserve(patch.neighbours.size());
   for (const SurfaceSample& s : patch.neighbours) {
-    const Eigen::Vector3d d = (s.ray * s.range_mm).cast<double>() - mean;
-    cov += d * d.transpose();
+    points.push_back((s.ray * s.range_mm).cast<double>());
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-  Eigen::Matrix3d axes = eig.eigenvectors();  // ascending: column 0 is the normal
+  const auto [mean, axes] = PrincipalAxes(points);
   Eigen::Vector3d z = axes.col(0);
   if (z.dot(mean) > 0.0) z = -z;
   const Eigen::Vector3d x = axes.col(2);
@@ -122,13 +129,7 @@ bool OnHead(const MarkerArea& area, const FrameSegmentation& seg, const Identifi
 // [1/mm]: half the mean curvature of the marker's surface; 0 with fewer than 6 points.
 double MarkerCurvaturePerMm(const Points3d& points) {
   if (points.size() < 6) return 0.0;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& p : points) cov += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> pca(cov);
-  const Eigen::Matrix3d axes = pca.eigenvectors();  // column 0: the normal
+  const auto [mean, axes] = PrincipalAxes(points);  // column 0: the normal
   Eigen::MatrixXd a(static_cast<Eigen::Index>(points.size()), 4);
   Eigen::VectorXd z(a.rows());
   for (Eigen::Index i = 0; i < a.rows(); ++i) {
@@ -139,18 +140,26 @@ double MarkerCurvaturePerMm(const Points3d& points) {
   return std::abs(a.colPivHouseholderQr().solve(z)(3));
 }
 
-MarkerPatch MakePatch(const MarkerArea& area, const Image<float>& surface_range,
-                      const FrameSegmentation& seg, const AhatFrame& frame,
-                      const AhatCamera& camera, const MarkerRangeModel& marker_model,
+// The marker's Eq. (2)-corrected points, at most max_marker_points of its pixels.
+Points3d MarkerPoints(const MarkerArea& area, const AhatFrame& frame, const AhatCamera& camera,
+                      const MarkerRangeModel& marker_model,
                       const IdentificationSampling& sampling) {
-  MarkerPatch patch;
-  patch.scale_mm = sampling.patch_radius_mm;
+  Points3d points;
   for (int i : EvenSubsample(static_cast<int>(area.pixels.size()), sampling.max_marker_points)) {
     const Eigen::Vector2i& px = area.pixels[static_cast<std::size_t>(i)];
     const Eigen::Vector3d ray = camera.PixelRay(px.x(), px.y()).cast<double>();
-    patch.marker_points.push_back(ray *
-                                  CorrectMarkerRange(frame.range_mm(px.x(), px.y()), marker_model));
+    points.push_back(ray * CorrectMarkerRange(frame.range_mm(px.x(), px.y()), marker_model));
   }
+  return points;
+}
+
+MarkerPatch MakePatch(const MarkerArea& area, Points3d marker_points,
+                      const Image<float>& surface_range, const FrameSegmentation& seg,
+                      const AhatFrame& frame, const AhatCamera& camera,
+                      const IdentificationSampling& sampling) {
+  MarkerPatch patch;
+  patch.scale_mm = sampling.patch_radius_mm;
+  patch.marker_points = std::move(marker_points);
   // Pixel box around the marker that covers the patch radius at the marker's range.
   const auto [u0, v0, u1, v1] = PixelBox(area);
   const double range = std::max(area.centroid_in_ahat.norm(), 100.0);
@@ -269,11 +278,13 @@ IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const Aha
   }
   for (const MarkerArea& area : seg.markers) {
     if (!OnHead(area, seg, sampling)) continue;
-    MarkerPatch patch = MakePatch(area, surface_range, seg, frame, camera, marker_model, sampling);
-    if (MarkerCurvaturePerMm(patch.marker_points) > sampling.max_sticker_curvature_per_mm) {
+    Points3d points = MarkerPoints(area, frame, camera, marker_model, sampling);
+    if (MarkerCurvaturePerMm(points) > sampling.max_sticker_curvature_per_mm) {
       ++out.curved_markers;  // a tool's sphere against the skin, not a sticker
       continue;
     }
+    MarkerPatch patch =
+        MakePatch(area, std::move(points), surface_range, seg, frame, camera, sampling);
     out.marker_points.insert(out.marker_points.end(), patch.marker_points.begin(),
                              patch.marker_points.end());
     if (static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) {

@@ -15,6 +15,7 @@ struct Scored {
   std::size_t tool = 0;
   std::size_t candidate = 0;
   double score = 0.0;
+  bool dominated = false;  // another tool's whole candidate explains its blobs (Dominates)
 };
 
 bool Uses(const ToolCandidate& c, const std::vector<bool>& used) {
@@ -87,11 +88,17 @@ class Arbiter {
     }
     std::stable_sort(scored_.begin(), scored_.end(),
                      [](const Scored& a, const Scored& b) { return a.score < b.score; });
+    for (Scored& s : scored_) {
+      s.dominated = std::any_of(scored_.begin(), scored_.end(), [&](const Scored& o) {
+        return o.tool != s.tool &&
+               Dominates(Candidate(o), tools_[o.tool].markers_in_tool.size(), Candidate(s));
+      });
+    }
   }
 
   std::vector<ToolPoseResult> Run() {
     for (const Scored& s : scored_) {
-      if (resolved_[s.tool] || Uses(Candidate(s), used_) || Dominated(s)) continue;
+      if (resolved_[s.tool] || Uses(Candidate(s), used_) || s.dominated) continue;
       Decide(s);
     }
     const int free = static_cast<int>(std::count(used_.begin(), used_.end(), false));
@@ -125,14 +132,6 @@ class Arbiter {
     return score;
   }
 
-  // Another tool has a candidate that sees all its markers on a superset of this one's blobs.
-  bool Dominated(const Scored& s) const {
-    return std::any_of(scored_.begin(), scored_.end(), [&](const Scored& o) {
-      return o.tool != s.tool &&
-             Dominates(Candidate(o), tools_[o.tool].markers_in_tool.size(), Candidate(s));
-    });
-  }
-
   bool Distinct(const ToolCandidate& a, const ToolCandidate& b) const {
     const Rigid3d& pa = a.fit.target_from_source;
     const Rigid3d& pb = b.fit.target_from_source;
@@ -148,8 +147,8 @@ class Arbiter {
     std::vector<std::size_t> rivals;
     for (const Scored& s : scored_) {
       if (&Candidate(s) == &c || resolved_[s.tool] || Uses(Candidate(s), used_)) continue;
-      const bool rival = s.tool == best.tool ? Distinct(c, Candidate(s))
-                                             : Shares(c, Candidate(s)) && !Dominated(s);
+      const bool rival =
+          s.tool == best.tool ? Distinct(c, Candidate(s)) : Shares(c, Candidate(s)) && !s.dominated;
       if (!rival) continue;
       margin = std::min(margin, s.score - best.score);
       if (s.tool != best.tool && s.score - best.score < options_.ambiguity_margin_mm) {
