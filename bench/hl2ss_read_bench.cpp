@@ -5,7 +5,7 @@
 
 #include <filesystem>
 
-#include "tofnav/io/hl2ss_recording.hpp"
+#include "tofnav/recording/hl2ss_recording.hpp"
 
 namespace tofnav {
 namespace {

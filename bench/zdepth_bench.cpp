@@ -6,7 +6,7 @@
 #include <cmath>
 #include <random>
 
-#include "tofnav/io/zdepth.hpp"
+#include "tofnav/recording/zdepth.hpp"
 
 namespace tofnav {
 namespace {

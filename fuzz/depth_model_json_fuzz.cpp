@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "tofnav/io/depth_model_json.hpp"
+#include "tofnav/casefile/depth_model_json.hpp"
 #include "tofnav/io/io_error.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "tofnav/io/hl2ss_recording.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/recording/hl2ss_recording.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <string_view>
 
+#include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/marker_range_json.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {

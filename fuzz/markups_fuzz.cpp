@@ -6,8 +6,8 @@
 #include <cstdlib>
 #include <span>
 
+#include "tofnav/casefile/markups_read.hpp"
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/markups_read.hpp"
 
 namespace {
 

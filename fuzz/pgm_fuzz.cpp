@@ -5,7 +5,7 @@
 #include <span>
 
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/pgm.hpp"
+#include "tofnav/recording/pgm.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

@@ -5,7 +5,7 @@
 #include <string_view>
 
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/scenario_json.hpp"
+#include "tofnav/scenario/scenario_json.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

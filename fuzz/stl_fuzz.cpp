@@ -4,7 +4,7 @@
 #include <span>
 
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/mesh_io.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

@@ -5,7 +5,7 @@
 #include <string_view>
 
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/stream_recorder_files.hpp"
+#include "tofnav/recording/stream_recorder_files.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);

@@ -5,8 +5,8 @@
 #include <span>
 
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/pgm.hpp"
 #include "tofnav/io/tar.hpp"
+#include "tofnav/recording/pgm.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const std::span<const std::uint8_t> bytes(data, size);

@@ -5,8 +5,8 @@
 #include <span>
 #include <string_view>
 
+#include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/tool_json.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {

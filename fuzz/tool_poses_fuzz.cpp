@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <string_view>
 
+#include "tofnav/casefile/tool_poses_io.hpp"
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/tool_poses_io.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   try {

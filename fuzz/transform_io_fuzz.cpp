@@ -6,8 +6,8 @@
 #include <span>
 #include <string>
 
+#include "tofnav/casefile/transform_io.hpp"
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/transform_io.hpp"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/zdepth.hpp"
+#include "tofnav/recording/zdepth.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 
 #include "headset_figure.hpp"
 #include "navigation_e2e_case.hpp"
-#include "tofnav/navigation/guidance.hpp"
+#include "tofnav/pipeline/guidance.hpp"
 #include "tofnav/stream/fake_remote_scene_server.hpp"
 #include "tofnav/stream/headset_display.hpp"
 

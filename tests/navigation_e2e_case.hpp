@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "e2e_common.hpp"
-#include "tofnav/navigation/navigator.hpp"
+#include "tofnav/pipeline/navigator.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 #include "tofnav/sim/simulator.hpp"
 

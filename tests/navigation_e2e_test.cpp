@@ -10,10 +10,10 @@
 #include <thread>
 
 #include "navigation_e2e_case.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/hl2ss_recording.hpp"
 #include "tofnav/io/io_test_helpers.hpp"
-#include "tofnav/navigation/guidance.hpp"
+#include "tofnav/pipeline/guidance.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/stream/hl2ss_client.hpp"
 #include "tofnav/stream/hl2ss_replay_server.hpp"
 #include "tofnav/stream/igtl_codec.hpp"

@@ -14,9 +14,9 @@
 #include <string>
 
 #include "e2e_common.hpp"
-#include "tofnav/io/depth_model_json.hpp"
-#include "tofnav/io/simulate.hpp"
-#include "tofnav/io/tool_json.hpp"
+#include "tofnav/casefile/depth_model_json.hpp"
+#include "tofnav/casefile/tool_json.hpp"
+#include "tofnav/scenario/simulate.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 
 namespace tofnav {

@@ -14,8 +14,8 @@
 
 #include "registration_scenes.hpp"
 #include "tofnav/imaging/skin.hpp"
-#include "tofnav/io/volume_io.hpp"
 #include "tofnav/registration/register_surface.hpp"
+#include "tofnav/volume/volume_io.hpp"
 
 namespace tofnav {
 namespace {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav convert: re-write a recording as hl2ss RAW, hl2ss ZDEPTH or a StreamRecorder capture.
-#include "tofnav/io/convert.hpp"
+#include "tofnav/recording/convert.hpp"
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>
@@ -12,7 +12,8 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/open_recording.hpp"
 
 namespace tofnav {
 

@@ -9,13 +9,13 @@
 #include "commands.hpp"
 #include "head_region_option.hpp"
 #include "progress.hpp"
+#include "tofnav/casefile/depth_model_json.hpp"
+#include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/correction/correct_range.hpp"
-#include "tofnav/io/ahat_recording.hpp"
-#include "tofnav/io/depth_model_json.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/hl2ss_recording.hpp"
-#include "tofnav/io/marker_range_json.hpp"
-#include "tofnav/io/mesh_io.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/hl2ss_recording.hpp"
+#include "tofnav/recording/open_recording.hpp"
 
 namespace tofnav {
 

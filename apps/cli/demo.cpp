@@ -12,11 +12,11 @@
 #include <memory>
 
 #include "commands.hpp"
-#include "demo_stages.hpp"
 #include "progress.hpp"
+#include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/io/file.hpp"
-#include "tofnav/io/patient_head.hpp"
 #include "tofnav/report/report.hpp"
+#include "tofnav/scenario/patient_head.hpp"
 
 namespace tofnav {
 namespace {

@@ -9,7 +9,8 @@
 #include <vector>
 
 #include "commands.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/open_recording.hpp"
 
 namespace tofnav {
 namespace {

@@ -7,8 +7,8 @@
 #include <memory>
 #include <string>
 
-#include "tofnav/io/ahat_recording.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
+#include "tofnav/sensor/ahat_recording.hpp"
 
 namespace tofnav {
 

@@ -10,10 +10,10 @@
 #include "commands.hpp"
 #include "evaluate.hpp"
 #include "progress.hpp"
-#include "tofnav/io/ahat_recording.hpp"
-#include "tofnav/io/depth_evaluate.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/truth_hits.hpp"
+#include "tofnav/evaluation/depth_evaluate.hpp"
+#include "tofnav/evaluation/truth_hits.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/sensor/ahat_recording.hpp"
 
 namespace tofnav {
 

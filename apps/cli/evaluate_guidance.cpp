@@ -8,8 +8,8 @@
 #include <stdexcept>
 
 #include "evaluate.hpp"
-#include "tofnav/io/guidance_evaluate.hpp"
-#include "tofnav/io/markups_read.hpp"
+#include "tofnav/casefile/markups_read.hpp"
+#include "tofnav/evaluation/guidance_evaluate.hpp"
 
 namespace tofnav {
 namespace {

@@ -14,14 +14,14 @@
 #include "commands.hpp"
 #include "evaluate.hpp"
 #include "progress.hpp"
+#include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/correction/identification_frame.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/correction/material_study.hpp"
-#include "tofnav/io/ahat_recording.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
+#include "tofnav/evaluation/truth_hits.hpp"
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/io/marker_range_json.hpp"
-#include "tofnav/io/truth_hits.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/sensor/ahat_recording.hpp"
 
 namespace tofnav {
 namespace {

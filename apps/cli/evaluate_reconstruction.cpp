@@ -11,8 +11,8 @@
 #include "commands.hpp"
 #include "evaluate.hpp"
 #include "progress.hpp"
-#include "tofnav/io/mesh_io.hpp"
-#include "tofnav/io/reconstruct_evaluate.hpp"
+#include "tofnav/evaluation/reconstruct_evaluate.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
 
 namespace tofnav {
 namespace {

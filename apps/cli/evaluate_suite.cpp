@@ -11,7 +11,7 @@
 #include <set>
 
 #include "evaluate.hpp"
-#include "suite_case.hpp"
+#include "tofnav/evaluation/suite_case.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/report/suite_report.hpp"
 

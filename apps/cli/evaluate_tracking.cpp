@@ -7,8 +7,8 @@
 #include <numbers>
 
 #include "evaluate.hpp"
-#include "tofnav/io/tool_poses_io.hpp"
-#include "tofnav/io/tracking_truth.hpp"
+#include "tofnav/casefile/tool_poses_io.hpp"
+#include "tofnav/evaluation/tracking_truth.hpp"
 
 namespace tofnav {
 namespace {

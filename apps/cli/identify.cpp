@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav identify: patient-specific depth-error model from a sticker recording (Eq. 3-7).
-#include "tofnav/io/identify.hpp"
+#include "tofnav/pipeline/identify.hpp"
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>
@@ -11,12 +11,12 @@
 #include "commands.hpp"
 #include "head_region_option.hpp"
 #include "progress.hpp"
-#include "tofnav/io/ahat_recording.hpp"
-#include "tofnav/io/depth_model_json.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/marker_range_json.hpp"
-#include "tofnav/io/mesh_io.hpp"
-#include "tofnav/io/volume_io.hpp"
+#include "tofnav/casefile/depth_model_json.hpp"
+#include "tofnav/casefile/marker_range_json.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/open_recording.hpp"
+#include "tofnav/volume/volume_io.hpp"
 
 namespace tofnav {
 namespace {

@@ -6,7 +6,7 @@
 #include <iostream>
 
 #include "commands.hpp"
-#include "tofnav/io/describe.hpp"
+#include "tofnav/describe/describe.hpp"
 
 namespace tofnav {
 

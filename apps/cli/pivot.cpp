@@ -8,10 +8,11 @@
 #include <numbers>
 
 #include "commands.hpp"
-#include "marker_tasks.hpp"
+#include "marker_source.hpp"
 #include "progress.hpp"
-#include "tofnav/io/marker_range_json.hpp"
-#include "tofnav/io/tool_json.hpp"
+#include "tofnav/casefile/marker_range_json.hpp"
+#include "tofnav/casefile/tool_json.hpp"
+#include "tofnav/pipeline/marker_tasks.hpp"
 #include "tofnav/tracking/pivot_calibration.hpp"
 
 namespace tofnav {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav reconstruct: fuse a recording's frames, posed by the reference tool, into a surface.
-#include "tofnav/io/reconstruct.hpp"
+#include "tofnav/pipeline/reconstruct.hpp"
 
 #include <CLI/CLI.hpp>
 #include <cstdlib>
@@ -14,13 +14,14 @@
 #include "commands.hpp"
 #include "head_region_option.hpp"
 #include "progress.hpp"
+#include "tofnav/casefile/depth_model_json.hpp"
+#include "tofnav/casefile/marker_range_json.hpp"
+#include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/core/require.hpp"
-#include "tofnav/io/depth_model_json.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/marker_range_json.hpp"
-#include "tofnav/io/mesh_io.hpp"
-#include "tofnav/io/reconstruct_correction.hpp"
-#include "tofnav/io/tool_json.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
+#include "tofnav/pipeline/reconstruct_correction.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/open_recording.hpp"
 
 namespace tofnav {
 namespace {

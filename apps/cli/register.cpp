@@ -10,10 +10,10 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
+#include "tofnav/casefile/markups_read.hpp"
+#include "tofnav/casefile/transform_io.hpp"
 #include "tofnav/imaging/skin.hpp"
-#include "tofnav/io/markups_read.hpp"
-#include "tofnav/io/mesh_io.hpp"
-#include "tofnav/io/transform_io.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/registration/paired_points.hpp"
 #include "tofnav/registration/register_surface.hpp"
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav simulate: render a scenario into an hl2ss recording plus ground truth.
-#include "tofnav/io/simulate.hpp"
+#include "tofnav/scenario/simulate.hpp"
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
@@ -13,8 +13,8 @@
 
 #include "commands.hpp"
 #include "progress.hpp"
-#include "tofnav/io/patient_head.hpp"
-#include "tofnav/io/scenario_json.hpp"
+#include "tofnav/scenario/patient_head.hpp"
+#include "tofnav/scenario/scenario_json.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 
 namespace tofnav {

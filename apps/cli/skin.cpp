@@ -13,8 +13,8 @@
 #include "commands.hpp"
 #include "progress.hpp"
 #include "tofnav/core/require.hpp"
-#include "tofnav/io/mesh_io.hpp"
-#include "tofnav/io/volume_io.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
+#include "tofnav/volume/volume_io.hpp"
 
 namespace tofnav {
 

@@ -7,11 +7,12 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
-#include "marker_frames.hpp"
+#include "marker_source.hpp"
 #include "progress.hpp"
+#include "tofnav/casefile/marker_range_json.hpp"
+#include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
-#include "tofnav/io/marker_range_json.hpp"
-#include "tofnav/io/tool_json.hpp"
+#include "tofnav/pipeline/marker_frames.hpp"
 #include "tofnav/tracking/tool_definition.hpp"
 
 namespace tofnav {

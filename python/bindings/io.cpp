@@ -7,11 +7,11 @@
 
 #include "convert.hpp"
 #include "defines.hpp"
-#include "tofnav/io/ahat_recording.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/mesh_io.hpp"
-#include "tofnav/io/tool_json.hpp"
-#include "tofnav/io/volume_io.hpp"
+#include "tofnav/casefile/tool_json.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/open_recording.hpp"
+#include "tofnav/volume/volume_io.hpp"
 
 namespace tofnav::python {
 namespace {

@@ -8,9 +8,9 @@
 
 #include "convert.hpp"
 #include "defines.hpp"
-#include "tofnav/io/markups_read.hpp"
-#include "tofnav/io/transform_io.hpp"
-#include "tofnav/navigation/navigator.hpp"
+#include "tofnav/casefile/markups_read.hpp"
+#include "tofnav/casefile/transform_io.hpp"
+#include "tofnav/pipeline/navigator.hpp"
 
 namespace tofnav::python {
 namespace {

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // One-call reconstruction of a recording (Sec. III-B) and the depth-model / f_rf files.
-#include "tofnav/io/reconstruct.hpp"
+#include "tofnav/pipeline/reconstruct.hpp"
 
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
@@ -9,10 +9,10 @@
 
 #include "convert.hpp"
 #include "defines.hpp"
+#include "tofnav/casefile/depth_model_json.hpp"
+#include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/correction/correct_range.hpp"
-#include "tofnav/io/depth_model_json.hpp"
-#include "tofnav/io/marker_range_json.hpp"
-#include "tofnav/io/reconstruct_correction.hpp"
+#include "tofnav/pipeline/reconstruct_correction.hpp"
 
 namespace tofnav::python {
 namespace {

@@ -5,8 +5,8 @@
 
 #include "convert.hpp"
 #include "defines.hpp"
-#include "tofnav/io/scenario_json.hpp"
-#include "tofnav/io/simulate.hpp"
+#include "tofnav/scenario/scenario_json.hpp"
+#include "tofnav/scenario/simulate.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 
 namespace tofnav::python {

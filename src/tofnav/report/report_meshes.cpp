@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "tofnav/io/mesh_io.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/report/mesh_render.hpp"
 #include "tofnav/report/report_internal.hpp"
 #include "tofnav/report/svg_plot.hpp"

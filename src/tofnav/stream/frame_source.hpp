@@ -9,8 +9,8 @@
 #include <optional>
 #include <string>
 
-#include "tofnav/io/ahat_recording.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
+#include "tofnav/sensor/ahat_recording.hpp"
 
 namespace tofnav {
 

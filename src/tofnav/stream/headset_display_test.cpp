@@ -7,7 +7,7 @@
 #include <numbers>
 #include <random>
 
-#include "tofnav/navigation/guidance.hpp"
+#include "tofnav/pipeline/guidance.hpp"
 #include "tofnav/stream/fake_remote_scene_server.hpp"
 
 namespace tofnav {

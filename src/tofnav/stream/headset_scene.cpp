@@ -8,7 +8,7 @@
 #include <numbers>
 
 #include "tofnav/core/require.hpp"
-#include "tofnav/navigation/guidance.hpp"
+#include "tofnav/pipeline/guidance.hpp"
 
 namespace tofnav {
 namespace {

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "tofnav/imaging/trajectory.hpp"
-#include "tofnav/navigation/navigator.hpp"
+#include "tofnav/pipeline/navigator.hpp"
 #include "tofnav/stream/remote_scene_protocol.hpp"
 
 namespace tofnav {

@@ -7,9 +7,9 @@
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/io/binary.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/hl2ss_format.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/hl2ss_format.hpp"
 
 namespace tofnav {
 namespace {

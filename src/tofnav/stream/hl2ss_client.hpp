@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "tofnav/io/hl2ss_recording.hpp"
+#include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/sensor/ahat_calibration.hpp"
 #include "tofnav/stream/frame_source.hpp"
 #include "tofnav/stream/socket.hpp"

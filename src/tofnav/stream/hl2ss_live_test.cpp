@@ -5,8 +5,8 @@
 #include <algorithm>
 
 #include "matchers.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
 #include "tofnav/stream/hl2ss_client.hpp"
 #include "tofnav/stream/hl2ss_replay_server.hpp"
 #include "tofnav/stream/hl2ss_test_recording.hpp"

@@ -12,9 +12,9 @@
 #include <cstring>
 
 #include "tofnav/core/require.hpp"
-#include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/hl2ss_format.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/hl2ss_format.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
 #include "tofnav/stream/hl2ss_client.hpp"
 

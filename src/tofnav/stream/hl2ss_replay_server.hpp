@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "tofnav/io/file.hpp"
-#include "tofnav/io/hl2ss_recording.hpp"
+#include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/stream/replay_faults.hpp"
 #include "tofnav/stream/socket.hpp"
 

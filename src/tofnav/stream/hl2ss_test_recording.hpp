@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <filesystem>
 
-#include "tofnav/io/hl2ss_calibration.hpp"
-#include "tofnav/io/hl2ss_recording.hpp"
 #include "tofnav/io/io_test_helpers.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/hl2ss_recording.hpp"
 
 namespace tofnav::testing {
 

@@ -8,8 +8,8 @@
 #include <utility>
 
 #include "tofnav/core/require.hpp"
-#include "tofnav/io/hl2ss_format.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/recording/hl2ss_format.hpp"
 
 namespace tofnav {
 namespace {

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "tofnav/navigation/navigator.hpp"
+#include "tofnav/pipeline/navigator.hpp"
 #include "tofnav/stream/hl2ss_client.hpp"
 
 namespace tofnav {

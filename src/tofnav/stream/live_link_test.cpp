@@ -10,7 +10,7 @@
 #include <array>
 #include <thread>
 
-#include "tofnav/io/hl2ss_format.hpp"
+#include "tofnav/recording/hl2ss_format.hpp"
 #include "tofnav/stream/hl2ss_replay_server.hpp"
 #include "tofnav/stream/hl2ss_test_recording.hpp"
 

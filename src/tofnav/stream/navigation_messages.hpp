@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "tofnav/core/triangle_mesh.hpp"
-#include "tofnav/navigation/navigator.hpp"
+#include "tofnav/pipeline/navigator.hpp"
 
 namespace tofnav {
 

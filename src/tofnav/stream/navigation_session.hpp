@@ -7,7 +7,7 @@
 #include <functional>
 #include <map>
 
-#include "tofnav/navigation/navigator.hpp"
+#include "tofnav/pipeline/navigator.hpp"
 #include "tofnav/stream/frame_source.hpp"
 #include "tofnav/stream/igtl_server.hpp"
 

@@ -1,0 +1,112 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// depth_model.json and f_rf JSON: round trips and every class of malformed input.
+#include "tofnav/casefile/depth_model_json.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "tofnav/io/io_error.hpp"
+
+namespace tofnav {
+namespace {
+
+DepthModelFile Example() {
+  DepthModelFile file;
+  file.model.angle_term = AngleTerm::kOneMinusCos;
+  file.model.use_intensity = true;
+  file.model.c1_mm = 9.25;
+  file.model.c2 = 0.0071;
+  file.model.c3_mm = 5.5;
+  file.model.c4_mm = -0.3;
+  file.model.multipath.enabled = true;
+  file.model.multipath.ab_scale = 71.5;
+  file.model.multipath.passes = 3;
+  file.model.report.method = "levenberg-marquardt";
+  file.model.report.costs = "smoothness";
+  file.model.report.frames = {{3, -1.0, 0.42, 4}, {7, 0.3, 0.5, 3}};
+  file.model.report.standard_errors = {0.1, 1e-4, std::nan(""), 0.2};
+  file.model.report.cross_validation = {{"linear-theta", 0.25}};
+  MarkerRangeModel range;
+  range.bias_mm.x = {300.0, 500.0, 700.0};
+  range.bias_mm.value = {0.0, 2.0, 4.0};
+  range.bias_mm.second_derivative = {0.0, 0.0, 0.0};
+  range.smoothing_p = 0.5;
+  file.marker_range = range;
+  return file;
+}
+
+TEST(DepthModelJson, RoundTripsModelRangeAndReport) {
+  const DepthModelFile in = Example();
+  const DepthModelFile out = DecodeDepthModelJson(EncodeDepthModelJson(in));
+  EXPECT_EQ(out.model.angle_term, AngleTerm::kOneMinusCos);
+  EXPECT_TRUE(out.model.use_intensity);
+  EXPECT_EQ(out.model.c1_mm, 9.25);  // JSON keeps doubles exactly (shortest round-trip form)
+  EXPECT_EQ(out.model.c2, 0.0071);
+  EXPECT_EQ(out.model.c4_mm, -0.3);
+  ASSERT_TRUE(out.marker_range.has_value());
+  EXPECT_EQ(out.marker_range->bias_mm.value, in.marker_range->bias_mm.value);
+  EXPECT_EQ(out.model.report.frames.size(), 2u);
+  EXPECT_EQ(out.model.report.frames[1].markers, 3);
+  EXPECT_TRUE(std::isnan(out.model.report.standard_errors[2]));
+  EXPECT_EQ(out.model.report.cross_validation[0].first, "linear-theta");
+  EXPECT_EQ(out.marker_range->bias_mm.x, in.marker_range->bias_mm.x);
+  EXPECT_TRUE(out.model.multipath.enabled);
+  EXPECT_EQ(out.model.multipath.ab_scale, 71.5);
+  EXPECT_EQ(out.model.multipath.passes, 3);
+  EXPECT_EQ(out.model.multipath.source_stride_px, in.model.multipath.source_stride_px);
+}
+
+TEST(DepthModelJson, AFileWithoutMultipathCorrectsWithoutIt) {
+  // Files written before the multipath removal existed: their coefficients were fitted on the
+  // measured ranges, so correction must not remove anything first.
+  std::string text = EncodeDepthModelJson(Example());
+  const auto at = text.find("\"multipath\"");
+  ASSERT_NE(at, std::string::npos);
+  const auto end = text.find('}', at);
+  text.erase(at, end + 1 - at);
+  // The member was the last of "model": drop the comma left before it.
+  const auto comma = text.rfind(',', at);
+  text.erase(comma, 1);
+  EXPECT_FALSE(DecodeDepthModelJson(text).model.multipath.enabled);
+}
+
+TEST(DepthModelJson, MalformedInputThrowsIoErrorNamingTheProblem) {
+  const std::string good = EncodeDepthModelJson(Example());
+  auto fails_with = [](const std::string& text, const std::string& needle) {
+    try {
+      DecodeDepthModelJson(text, "m.json");
+    } catch (const IoError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find("m.json"), std::string::npos) << what;
+      EXPECT_NE(what.find(needle), std::string::npos) << what;
+      return;
+    }
+    ADD_FAILURE() << "no IoError for " << text.substr(0, 60);
+  };
+  fails_with(good.substr(0, good.size() / 2), "malformed JSON");
+  fails_with("[]", "expected a JSON object");
+  fails_with(R"({"format": "x", "version": 1})", "format");
+  fails_with(R"({"format": "tofnav-depth-model", "version": 2})", "version");
+  fails_with(R"({"format": "tofnav-depth-model", "version": 1})", "missing \"model\"");
+  std::string bad_term = good;
+  bad_term.replace(bad_term.find("\"1-cos\""), 7, "\"cos\"");
+  fails_with(bad_term, "angle_term");
+  std::string bad_c2 = good;
+  bad_c2.replace(bad_c2.find("\"c2\": 0.0071"), 12, "\"c2\": -2");
+  fails_with(bad_c2, "c2");
+  std::string bad_knots = good;
+  bad_knots.replace(bad_knots.find("700.0"), 5, "100.0");
+  fails_with(bad_knots, "marker range");
+  std::string bad_passes = good;
+  bad_passes.replace(bad_passes.find("\"passes\": 3"), 11, "\"passes\": 0");
+  fails_with(bad_passes, "passes");
+  std::string bad_stride = good;
+  const std::string stride = "\"source_stride_px\": 16";
+  bad_stride.replace(bad_stride.find(stride), stride.size(), "\"source_stride_px\": 1.5");
+  fails_with(bad_stride, "integer");
+}
+
+}  // namespace
+}  // namespace tofnav

@@ -1,0 +1,243 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav demo, stages session, depth and reconstruction: the evd-usecase session simulated
+// (simulate), the patient-specific model identified with the CT (identify --ct) and evaluated
+// against the truth range (evaluate depth), the head fused in the headframe's frame
+// (reconstruct) and compared with the true skin (evaluate reconstruction).
+#include <algorithm>
+#include <cmath>
+
+#include "tofnav/casefile/tool_json.hpp"
+#include "tofnav/core/require.hpp"
+#include "tofnav/evaluation/demo_stages.hpp"
+#include "tofnav/evaluation/depth_evaluate.hpp"
+#include "tofnav/evaluation/reconstruct_evaluate.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
+#include "tofnav/pipeline/identify.hpp"
+#include "tofnav/pipeline/reconstruct_correction.hpp"
+#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/open_recording.hpp"
+#include "tofnav/scenario/simulate.hpp"
+#include "tofnav/scenario/truth_json.hpp"
+#include "tofnav/sim/scenario_builtins.hpp"
+#include "tofnav/volume/volume_io.hpp"
+
+namespace tofnav {
+namespace {
+
+constexpr int kHistogramBins = 40;
+
+// Equal bins over [lo, hi] of each series (values outside are clamped into the end bins).
+DemoJson Histogram(const std::vector<std::vector<float>>& series, double lo, double hi,
+                   const std::vector<std::string>& names) {
+  DemoJson h{{"bin_edges_mm", DemoJson::array()}};
+  const double width = (hi - lo) / kHistogramBins;
+  for (int b = 0; b <= kHistogramBins; ++b) h["bin_edges_mm"].push_back(lo + b * width);
+  for (std::size_t s = 0; s < series.size(); ++s) {
+    std::vector<int> counts(kHistogramBins, 0);
+    for (const float v : series[s]) {
+      if (!std::isfinite(v)) continue;
+      const int b = static_cast<int>(std::floor((v - lo) / width));
+      ++counts[static_cast<std::size_t>(std::clamp(b, 0, kHistogramBins - 1))];
+    }
+    h[names[s]] = counts;
+  }
+  return h;
+}
+
+// The q-quantile of the values (copied).
+double Quantile(std::vector<float> v, double q) {
+  if (v.empty()) return 0.0;
+  const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+struct SessionFiles {
+  AhatCamera camera;
+  std::unique_ptr<AhatRecording> recording;
+};
+
+SessionFiles OpenSession(const DemoContext& ctx) {
+  Require(ctx.session.has_value(), "no patient session (its simulation failed)");
+  return {AhatCamera(ReadHl2ssCalibration(ctx.session_dir / "calibration")),
+          OpenAhatRecording(ctx.session_dir / "rm_depth_ahat.bin")};
+}
+
+const std::string& PatientObjectName(const sim::Scenario& s) {
+  return s.scene.objects[static_cast<std::size_t>(s.patient->object)].name;
+}
+
+}  // namespace
+
+void RunDemoSession(DemoContext& ctx, DemoJson& stage) {
+  sim::Scenario scenario =
+      sim::BuiltinScenario("evd-usecase", ctx.patient_head ? &*ctx.patient_head : nullptr);
+  scenario.timing.slot_stride = ctx.session_slot_stride;
+  if (ctx.vary_session) ctx.vary_session(scenario);
+  const std::vector<int> parts = HeadframeTools(scenario);
+  Require(!parts.empty() && scenario.patient.has_value(), "evd-usecase has no headframe");
+  const sim::Tool& first = scenario.scene.tools[static_cast<std::size_t>(parts.front())];
+  ctx.truth_tool = first.name;
+  ctx.true_tool_from_image =
+      first.scene_from_tool.Inverse() *
+      scenario.scene.objects[static_cast<std::size_t>(scenario.patient->object)].scene_from_object;
+  ctx.session_dir = ctx.out / "session";
+  SimulateOptions options;
+  options.frames = ctx.session_frames;
+  options.seed = ctx.seed;
+  options.truth_depth = true;
+  options.progress = [&](std::size_t d, std::size_t t) { ctx.progress("simulate session", d, t); };
+  const SimulateResult r = RunSimulation(scenario, ctx.session_dir, options);
+  scenario.frames = r.frames;
+  ctx.session = std::move(scenario);
+  stage["scenario"] = "evd-usecase";
+  stage["frames"] = r.frames;
+  stage["dropped_slots"] = r.dropped_slots;
+  stage["recording_duration_s"] = r.duration_s;
+  stage["recording"] = "session/rm_depth_ahat.bin";
+  stage["truth"] = "session/truth.json";
+  stage["ct"] = "session/ct.nrrd";
+  stage["plan"] = "session/plan.mrk.json";
+  stage["headframe_tool"] = "session/tools/headframe.json";
+}
+
+void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
+  const SessionFiles s = OpenSession(ctx);
+  const SurfaceIndex skin(SkinIsoSurface(ReadVolume(ctx.session_dir / "ct.nrrd")));
+  IdentifyRecordingOptions options;  // the automatic head region leaves the headframe out
+  options.max_frames = static_cast<int>(ctx.session_frames);
+  // The device's illuminator constant K is what a user calibrates once per headset; the
+  // simulator's multipath gain g scales the indirect light, which the removal sees as a device
+  // of constant K / g (none at g = 0: a world without indirect light). docs/correction.md 7.
+  if (ctx.session) {
+    const double gain = ctx.session->render.multipath.gain;
+    options.sampling.multipath.enabled = gain > 0.0;
+    if (gain > 0.0)
+      options.sampling.multipath.ab_scale = ctx.session->render.radiometry.ab_scale / gain;
+    options.sampling.multipath.falloff_power = ctx.session->render.radiometry.falloff_power;
+  }
+  const IdentifyRecordingResult identified =
+      IdentifyFromRecording(*s.recording, s.camera, ctx.frf, &skin, options,
+                            [&](std::size_t d, std::size_t t) { ctx.progress("identify", d, t); });
+  WriteDepthModelJson(ctx.out / "depth_model.json", identified.file);
+  ctx.depth_model = identified.file;
+  const DepthErrorModel& m = identified.file.model;
+  stage["model"] = {{"name", m.Name()},
+                    {"C1_mm", m.c1_mm},
+                    {"C2", m.c2},
+                    {"C3_mm_per_rad", m.c3_mm},
+                    {"C4_mm", m.c4_mm},
+                    {"costs", m.report.costs},
+                    {"multipath_removed", m.multipath.enabled},
+                    {"frames", m.report.frames_used},
+                    {"frames_left_out", m.report.frames_left_out},
+                    {"marker_observations", m.report.marker_observations},
+                    {"marker_observations_rejected", m.report.marker_observations_rejected},
+                    {"marker_observations_curved", m.report.marker_observations_curved},
+                    {"seconds", m.report.seconds}};
+  stage["depth_model_json"] = "depth_model.json";
+
+  const DepthEvaluation e = EvaluateDepthAgainstTruth(
+      *s.recording, s.camera, ctx.session_dir, *ctx.session, identified.file, ctx.depth_eval_frames,
+      [&](std::size_t d, std::size_t t) { ctx.progress("evaluate depth", d, t); });
+  stage["frames"] = e.frames;
+  stage["objects"] = DemoJson::array();
+  const std::string& head = PatientObjectName(*ctx.session);
+  const ObjectDepthError* head_error = nullptr;
+  for (const ObjectDepthError& o : e.objects) {
+    if (o.name == head) head_error = &o;
+    stage["objects"].push_back({{"name", o.name},
+                                {"pixels", o.before.pixels},
+                                {"before_median_mm", o.before.median_mm},
+                                {"before_iqr_mm", o.before.iqr_mm()},
+                                {"after_median_mm", o.after->median_mm},
+                                {"after_iqr_mm", o.after->iqr_mm()},
+                                {"reduction_percent", o.reduction_percent},
+                                {"head_region_percent", o.head_region_percent},
+                                {"target", o.name == head}});
+  }
+  Require(head_error != nullptr, "no head pixel was evaluated");
+  const double lo = std::floor(
+      std::min(Quantile(head_error->before_mm, 0.005), Quantile(head_error->after_mm, 0.005)));
+  const double hi = std::ceil(
+      std::max(Quantile(head_error->before_mm, 0.995), Quantile(head_error->after_mm, 0.995)));
+  stage["histogram"] = Histogram({head_error->before_mm, head_error->after_mm}, lo,
+                                 std::max(hi, lo + 1.0), {"before", "after"});
+  stage["acceptance"] = DemoJson::array(  // issue 5 (head, with the CT)
+      {Acceptance("head after_median_mm (abs)", std::abs(head_error->after->median_mm), "<=", 0.5),
+       Acceptance("head reduction_percent", head_error->reduction_percent, ">=", 90.0)});
+}
+
+void RunDemoReconstruction(DemoContext& ctx, DemoJson& stage) {
+  const SessionFiles s = OpenSession(ctx);
+  const ToolGeometry tool = ReadToolJson(ctx.session_dir / "tools" / "headframe.json");
+  ReconstructOptions options;
+  if (ctx.depth_model) {
+    UseDepthModel(*ctx.depth_model, options);
+  } else if (ctx.frf) {
+    options.marker_error = *ctx.frf;
+    stage["note"] = "no depth model (stage depth failed): uncorrected ranges";
+  }
+  const ReconstructResult r =
+      ReconstructSurface(*s.recording, s.camera, tool, options,
+                         [&](std::size_t d, std::size_t t) { ctx.progress("reconstruct", d, t); });
+  WriteMesh(ctx.out / "surface.ply", r.mesh);
+  ctx.surface = r.mesh;
+
+  // The true surfaces rigid with the headframe, in its frame (that of ctx.truth_tool).
+  const sim::Scenario& scenario = *ctx.session;
+  const auto patient = static_cast<std::size_t>(scenario.patient->object);
+  const int mount = scenario.object_mounts[patient];
+  const sim::Tool* first = nullptr;
+  for (const sim::Tool& t : scenario.scene.tools) {
+    if (t.name == ctx.truth_tool) first = &t;
+  }
+  Require(first != nullptr, "the headframe's first tool is not in the scenario");
+  std::vector<TruthSurface> truth;
+  for (std::size_t o = 0; o < scenario.scene.objects.size(); ++o) {
+    if (scenario.object_mounts[o] != mount) continue;
+    const sim::SceneObject& object = scenario.scene.objects[o];
+    truth.push_back(
+        {object.name, scenario.scene.materials[static_cast<std::size_t>(object.material)].name,
+         o == patient,
+         Transform(first->scene_from_tool.Inverse() * object.scene_from_object, object.mesh)});
+  }
+  const ReconstructionEvaluation e = EvaluateReconstruction(r.mesh, truth);
+  WriteMesh(ctx.out / "surface_error.ply", e.colored);
+  const ObjectError* head = nullptr;
+  for (const ObjectError& o : e.objects) {
+    if (o.name == PatientObjectName(scenario)) head = &o;
+  }
+  Require(head != nullptr, "no reconstructed vertex lies on the head");
+  stage["frames_fused"] = r.frames_fused;
+  stage["frames_skipped"] = r.frames_skipped;
+  stage["voxel_mm"] = options.tsdf.voxel_size_mm;
+  stage["roi_automatic"] = r.roi_automatic;
+  stage["vertices"] = r.mesh.vertices.size();
+  stage["head_vertices"] = head->stats.count;
+  stage["outliers"] = e.outliers;
+  stage["median_mm"] = head->stats.median_mm;
+  stage["iqr_mm"] = head->stats.iqr_mm;
+  stage["p95_mm"] = head->stats.p95_mm;
+  stage["beyond_3mm_percent"] = 100.0 * head->stats.beyond_3mm_fraction;
+  stage["all_median_mm"] = e.all.median_mm;
+  stage["objects"] = DemoJson::array();
+  for (const ObjectError& o : e.objects) {
+    stage["objects"].push_back({{"name", o.name},
+                                {"vertices", o.stats.count},
+                                {"median_mm", o.stats.median_mm},
+                                {"iqr_mm", o.stats.iqr_mm}});
+  }
+  std::vector<float> abs_error;
+  for (const float v : e.colored.vertex_scalars) {
+    if (std::isfinite(v)) abs_error.push_back(std::abs(v));
+  }
+  DemoJson histogram = Histogram({abs_error}, 0.0, 3.0, {"counts"});
+  stage["histogram"] = histogram;
+  stage["surface_ply"] = "surface.ply";
+  stage["mesh_error_ply"] = "surface_error.ply";
+  stage["acceptance"] =
+      DemoJson::array({Acceptance("head median_mm", head->stats.median_mm, "<=", 0.3)});  // issue 6
+}
+
+}  // namespace tofnav

@@ -1,0 +1,78 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav demo: the state shared by its stages and one function per stage (docs/demo.md).
+#pragma once
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tofnav/casefile/depth_model_json.hpp"
+#include "tofnav/core/rigid3d.hpp"
+#include "tofnav/core/triangle_mesh.hpp"
+#include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/sensor/ahat_camera.hpp"
+#include "tofnav/sensor/ahat_frame.hpp"
+#include "tofnav/sim/patient.hpp"
+#include "tofnav/sim/scenario.hpp"
+#include "tofnav/tracking/tool_geometry.hpp"
+
+namespace tofnav {
+
+using DemoJson = nlohmann::ordered_json;
+
+/// What the stages hand on to each other; every path is under `out`.
+struct DemoContext {
+  std::filesystem::path out;
+  std::string head;  // "phantom" or "ct:<volume>"
+  std::uint64_t seed = 1;
+  bool quiet = false;
+  std::int64_t stage_frames = 160;       // marker-stage recording (four runs)
+  std::int64_t session_frames = 300;     // patient session (identification, reconstruction, nav)
+  std::int64_t session_slot_stride = 1;  // every n-th slot of the session's motion is rendered
+  int depth_eval_frames = 24;            // frames of the depth evaluation (ray cast truth labels)
+  std::function<void(const std::string&, std::size_t, std::size_t)> progress;
+  /// Applied to the built-in scenarios before they are simulated (the robustness suite's
+  /// variations: docs/suite.md); unset, the demo's own scenarios.
+  std::function<void(sim::Scenario&)> vary_stage, vary_session;
+
+  std::optional<sim::PatientHead> patient_head;
+  std::optional<MarkerRangeModel> frf;        // stage marker_error
+  std::optional<sim::Scenario> session;       // the simulated patient session
+  std::filesystem::path session_dir;          // its folder
+  std::optional<DepthModelFile> depth_model;  // stage depth
+  std::optional<TriangleMesh> surface;        // stage reconstruction, in the headframe frame
+  std::optional<Rigid3d> tool_from_image;     // stage registration
+  Rigid3d true_tool_from_image;               // the headframe's truth (session)
+  std::string truth_tool;  // the simulator's tool whose frame the headframe tool shares
+};
+
+/// One acceptance line: `value` against `limit` (`op` "<=" or ">=").
+DemoJson Acceptance(const std::string& figure, double value, const std::string& op, double limit);
+
+// Each stage fills `stage` with its figures and artefact paths (relative to ctx.out) and throws
+// on failure; the driver records ok / error / elapsed_s.
+void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage);
+void RunDemoSession(DemoContext& ctx, DemoJson& stage);
+void RunDemoDepth(DemoContext& ctx, DemoJson& stage);
+void RunDemoReconstruction(DemoContext& ctx, DemoJson& stage);
+void RunDemoRegistration(DemoContext& ctx, DemoJson& stage);
+void RunDemoTracking(DemoContext& ctx, DemoJson& stage);
+void RunDemoGuidance(DemoContext& ctx, DemoJson& stage);
+
+/// The frame counts of a run at `scale` (1: the default, <= 90 s on the 2-core machine).
+void ScaleDemoFrames(DemoContext& ctx, double scale);
+
+/// Runs every stage in order (a failed stage is recorded and the next ones run with what they
+/// have): {"name": {"ok", "error", "elapsed_s", figures...}, ...}. The head is loaded first
+/// when ctx.patient_head is unset.
+DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stage = {});
+
+/// The paper's reference figures (demo.json "paper"), keys as the stages' where comparable.
+DemoJson PaperFigures();
+/// The tables: ours beside the paper's, one block per stage.
+void PrintDemoTables(const DemoJson& demo);
+
+}  // namespace tofnav

@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Depth error per object against the simulator's truth range: labels by ray casting the truth.
+#include "tofnav/evaluation/depth_evaluate.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <span>
+
+#include "tofnav/correction/correct_range.hpp"
+#include "tofnav/correction/identification_frame.hpp"
+#include "tofnav/evaluation/truth_hits.hpp"
+#include "tofnav/io/file.hpp"
+#include "tofnav/io/io_error.hpp"
+#include "tofnav/sim/raycaster.hpp"
+
+namespace tofnav {
+namespace {
+
+using Json = nlohmann::json;
+constexpr std::size_t kTruthFrameBytes = 4u * kAhatPixels;
+constexpr int kEdgeMarginPx = 2;      // pixels this close to another object or a marker: mixed
+constexpr double kEdgeJumpMm = 10.0;  // truth range jump that marks a depth edge
+
+// Interior pixels of an object: same label and no truth depth edge within the margin.
+bool Interior(const Image<int>& labels, const Image<float>& truth, int u, int v) {
+  const int label = labels(u, v);
+  for (int dv = -kEdgeMarginPx; dv <= kEdgeMarginPx; ++dv) {
+    for (int du = -kEdgeMarginPx; du <= kEdgeMarginPx; ++du) {
+      if (!labels.Contains(u + du, v + dv) || labels(u + du, v + dv) != label) return false;
+      if (std::abs(truth(u + du, v + dv) - truth(u, v)) > kEdgeJumpMm) return false;
+    }
+  }
+  return true;
+}
+
+DepthErrorStats Summarise(std::vector<float> e) {
+  DepthErrorStats s;
+  s.pixels = e.size();
+  if (e.empty()) return s;
+  auto at = [&](double q) {
+    const auto k = static_cast<std::size_t>(q * static_cast<double>(e.size() - 1));
+    std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(k), e.end());
+    return static_cast<double>(e[k]);
+  };
+  s.q1_mm = at(0.25), s.median_mm = at(0.5), s.q3_mm = at(0.75);
+  return s;
+}
+
+}  // namespace
+
+DepthEvaluation EvaluateDepthAgainstTruth(
+    const AhatRecording& recording, const AhatCamera& camera,
+    const std::filesystem::path& truth_dir, sim::Scenario scenario,
+    const std::optional<DepthModelFile>& model, int max_frames,
+    const std::function<void(std::size_t, std::size_t)>& progress) {
+  const std::vector<std::uint8_t> bytes = ReadFileBytes(truth_dir / "truth.json");
+  Json truth;
+  try {
+    truth = Json::parse(bytes.begin(), bytes.end());
+  } catch (const Json::exception& e) {
+    throw IoError(truth_dir / "truth.json", std::nullopt, std::string("not JSON: ") + e.what());
+  }
+  sim::SceneRaycaster caster(scenario.scene);
+  const Json& truth_frames = truth.at("frames");
+  const RandomAccessFile ranges(truth_dir / "truth_range_f32.bin");
+  if (ranges.size() != truth_frames.size() * kTruthFrameBytes ||
+      truth_frames.size() != recording.frame_count()) {
+    throw IoError(truth_dir / "truth_range_f32.bin", std::nullopt,
+                  "frame count differs from truth.json or the recording");
+  }
+  // The automatic head region (as identify segments): how much of each object it keeps.
+  const SegmentationOptions roi_options = IdentificationSampling{}.segmentation;
+  std::map<std::string, std::size_t> in_roi;
+  std::string target;  // the object the head model is identified on (none: no patient)
+  if (truth.contains("patient") && truth["patient"].contains("object")) {
+    target = truth["patient"]["object"].get<std::string>();
+  }
+  CorrectRangeOptions correct_options;
+  correct_options.roi_only = false;
+  if (model && model->marker_range) correct_options.marker_model = *model->marker_range;
+
+  std::map<std::string, ObjectDepthError> objects;
+  const std::vector<int> picked = EvenSubsample(static_cast<int>(truth_frames.size()), max_frames);
+  for (std::size_t n = 0; n < picked.size(); ++n) {
+    const auto i = static_cast<std::size_t>(picked[n]);
+    const AhatFrame frame = recording.ReadFrame(i);
+    Image<float> truth_range(kAhatWidth, kAhatHeight);
+    ranges.ReadAt(i * kTruthFrameBytes,
+                  std::span(reinterpret_cast<std::uint8_t*>(truth_range.data()), kTruthFrameBytes),
+                  "a truth range frame (float32 little-endian)");
+    const Image<int> labels = CastTruthHits(scenario.scene, caster, truth_frames[i], camera).object;
+    const FrameSegmentation roi = SegmentFrame(frame, camera, roi_options);
+    std::optional<Image<float>> corrected;
+    if (model) corrected = CorrectRangeImage(frame, camera, model->model, correct_options);
+    for (int v = 0; v < kAhatHeight; ++v) {
+      for (int u = 0; u < kAhatWidth; ++u) {
+        const int label = labels(u, v);
+        const std::uint16_t measured = frame.range_mm(u, v);
+        if (label < 0 || truth_range(u, v) <= 0.0f || measured == 0) continue;
+        if (!Interior(labels, truth_range, u, v)) continue;
+        if (corrected && (*corrected)(u, v) <= 0.0f) continue;  // dropped: not in either column
+        const std::string& name = scenario.scene.objects[static_cast<std::size_t>(label)].name;
+        ObjectDepthError& o = objects[name];
+        if (roi.labels(u, v) == static_cast<std::uint8_t>(PixelClass::kHead)) ++in_roi[name];
+        o.before_mm.push_back(static_cast<float>(measured) - truth_range(u, v));
+        if (corrected) o.after_mm.push_back((*corrected)(u, v) - truth_range(u, v));
+      }
+    }
+    if (progress) progress(n + 1, picked.size());
+  }
+  DepthEvaluation result;
+  result.frames = picked.size();
+  result.target_object = target;
+  for (auto& [name, o] : objects) {
+    o.name = name;
+    o.before = Summarise(o.before_mm);
+    o.role = target.empty() ? "object" : name == target ? "target" : "other";
+    o.head_region_percent = o.before.pixels > 0 ? 100.0 * static_cast<double>(in_roi[name]) /
+                                                      static_cast<double>(o.before.pixels)
+                                                : 0.0;
+    if (model) {
+      o.after = Summarise(o.after_mm);
+      o.reduction_percent =
+          o.before.median_mm != 0.0
+              ? 100.0 * (1.0 - std::abs(o.after->median_mm) / std::abs(o.before.median_mm))
+              : 0.0;
+    }
+    result.objects.push_back(std::move(o));
+  }
+  return result;
+}
+
+}  // namespace tofnav

@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// Depth error per object against the simulator's truth range, before and after a depth model
+// (`tofnav evaluate depth`, the demo's depth stage; paper Table I layout).
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tofnav/casefile/depth_model_json.hpp"
+#include "tofnav/sensor/ahat_camera.hpp"
+#include "tofnav/sensor/ahat_recording.hpp"
+#include "tofnav/sim/scenario.hpp"
+
+namespace tofnav {
+
+/// Median and quartiles of signed depth errors (measured - true range) [mm].
+struct DepthErrorStats {
+  std::size_t pixels = 0;
+  double median_mm = 0.0, q1_mm = 0.0, q3_mm = 0.0;
+  double iqr_mm() const { return q3_mm - q1_mm; }
+};
+
+struct ObjectDepthError {
+  std::string name;  // scene object
+  /// "target": the patient's object, the one the head model is identified on; "other": another
+  /// object of a patient scene (the head model applied for reference only); "object": no patient.
+  std::string role;
+  double head_region_percent = 0.0;  // share of its pixels in the automatic head region
+  DepthErrorStats before;
+  std::optional<DepthErrorStats> after;    // with a depth model
+  double reduction_percent = 0.0;          // 100 (1 - |after median| / |before median|)
+  std::vector<float> before_mm, after_mm;  // the errors themselves (for histograms)
+};
+
+struct DepthEvaluation {
+  std::size_t frames = 0;
+  std::string target_object;              // truth.json's patient object; empty without a patient
+  std::vector<ObjectDepthError> objects;  // by name
+};
+
+/// Interior pixels of every scene object (2 px from another object, a marker or a depth edge) in
+/// up to `max_frames` evenly spread frames of `recording`, against `truth_dir`'s truth.json poses
+/// and truth_range_f32.bin (simulate --truth-depth); `scenario` is the one simulated (its meshes
+/// label the pixels). With `model`, pixels its correction drops are left out of both columns.
+/// Throws IoError on missing or inconsistent truth files.
+DepthEvaluation EvaluateDepthAgainstTruth(
+    const AhatRecording& recording, const AhatCamera& camera,
+    const std::filesystem::path& truth_dir, sim::Scenario scenario,
+    const std::optional<DepthModelFile>& model, int max_frames,
+    const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+}  // namespace tofnav

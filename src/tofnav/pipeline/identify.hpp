@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// `tofnav identify` as one call: frames of a recording -> the patient-specific depth model
+// (Eq. 3-7), smoothness first, then both costs against the CT skin (docs/correction.md).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "tofnav/casefile/depth_model_json.hpp"
+#include "tofnav/core/triangle_mesh.hpp"
+#include "tofnav/correction/identification.hpp"
+#include "tofnav/correction/identification_frame.hpp"
+#include "tofnav/imaging/ct_volume.hpp"
+#include "tofnav/registration/surface_index.hpp"
+#include "tofnav/sensor/ahat_camera.hpp"
+#include "tofnav/sensor/ahat_recording.hpp"
+
+namespace tofnav {
+
+struct IdentifyRecordingOptions {
+  int max_frames = 300;          // frames used, evenly spread over the recording
+  int cross_validate_folds = 0;  // >= 2: compare DefaultModelCandidates on held-out blocks
+  DepthErrorModel start;         // start values and variant (angle term, intensity)
+  IdentificationSampling sampling;
+  IdentificationOptions identification;
+  /// Applied to each decoded frame before its preparation (e.g. to blank pixels); optional.
+  std::function<void(AhatFrame&)> prepare_frame;
+};
+
+struct IdentifyRecordingResult {
+  DepthModelFile file;  // the model (with its report) and the f_rf used
+  /// With a skin: the registration that placed it (recording frame index, ICP figures).
+  std::optional<int> reference_frame;
+  double icp_rmse_mm = 0.0;
+  double icp_inlier_fraction = 0.0;
+};
+
+/// Prepares up to options.max_frames frames (markers corrected by `marker_range` when given),
+/// identifies the model from smoothness alone, and with `skin` registers it once to head clouds
+/// corrected by that model and identifies again with both costs (the CLI's and the demo's path).
+/// `progress(done, total)` after each prepared frame. Throws std::invalid_argument when no frame
+/// has a usable marker patch, IoError from the recording.
+IdentifyRecordingResult IdentifyFromRecording(
+    const AhatRecording& recording, const AhatCamera& camera,
+    const std::optional<MarkerRangeModel>& marker_range, const SurfaceIndex* skin,
+    const IdentifyRecordingOptions& options = {},
+    const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// The CT skin for identification: imaging's ExtractSkin (as `tofnav skin`: the CT default
+/// threshold unless `iso_hu` is given, largest component, cavities filled), in the image frame.
+TriangleMesh SkinIsoSurface(const CtVolume& ct, std::optional<double> iso_hu = std::nullopt);
+
+}  // namespace tofnav

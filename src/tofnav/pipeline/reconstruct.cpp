@@ -1,0 +1,283 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// `tofnav reconstruct`: tracking, range cleaning and correction per frame, fusion, meshing.
+#include "tofnav/pipeline/reconstruct.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "tofnav/core/parallel_for.hpp"
+#include "tofnav/core/require.hpp"
+#include "tofnav/correction/frame_segmentation.hpp"
+#include "tofnav/fusion/mesh_components.hpp"
+#include "tofnav/pipeline/reconstruct_frames.hpp"
+
+namespace tofnav {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Seconds(Clock::time_point since) {
+  return std::chrono::duration<double>(Clock::now() - since).count();
+}
+
+// Range codes as float mm, 0 = invalid.
+Image<float> RangeFromCodes(const Image<std::uint16_t>& codes) {
+  Image<float> range(codes.width(), codes.height());
+  for (std::size_t i = 0; i < codes.size(); ++i) {
+    const std::uint16_t code = codes.data()[i];
+    range.data()[i] = code == 0 || code >= kAhatInvalidRange ? 0.0f : static_cast<float>(code);
+  }
+  return range;
+}
+
+// Removes retro-reflective pixels and a ring around them: AB >= threshold, dilated by a square
+// of `dilation_px`.
+void MaskMarkers(const Image<std::uint16_t>& ab, double ab_threshold, int dilation_px,
+                 Image<float>& range) {
+  const int w = range.width(), h = range.height();
+  if (ab.width() != w || ab.height() != h) return;
+  for (int v = 0; v < h; ++v) {
+    for (int u = 0; u < w; ++u) {
+      if (static_cast<double>(ab(u, v)) < ab_threshold) continue;
+      for (int y = std::max(0, v - dilation_px); y <= std::min(h - 1, v + dilation_px); ++y) {
+        for (int x = std::max(0, u - dilation_px); x <= std::min(w - 1, u + dilation_px); ++x) {
+          range(x, y) = 0.0f;
+        }
+      }
+    }
+  }
+}
+
+Image<float> AbWeights(const AhatFrame& frame, double reference, double floor) {
+  Image<float> weight(frame.ab.width(), frame.ab.height());
+  for (int v = 0; v < weight.height(); ++v) {
+    for (int u = 0; u < weight.width(); ++u) {
+      const double r = static_cast<double>(frame.ab(u, v)) / reference;
+      weight(u, v) = static_cast<float>(std::clamp(r * r, floor, 1.0));
+    }
+  }
+  return weight;
+}
+
+double Median(std::vector<double> values) {
+  const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
+  std::nth_element(values.begin(), mid, values.end());
+  return *mid;
+}
+
+}  // namespace
+
+void AutoRoiOptions::Check() const {
+  Require(centre_window_px >= 1, "AutoRoiOptions::centre_window_px must be >= 1");
+  Require(std::isfinite(radius_mm) && radius_mm > 0.0, "AutoRoiOptions::radius_mm must be > 0");
+  Require(std::isfinite(margin_mm) && margin_mm >= 0.0, "AutoRoiOptions::margin_mm must be >= 0");
+}
+
+void ReconstructOptions::Check() const {
+  tsdf.Check();
+  mesh.Check();
+  auto_roi.Check();
+  head_region.Check();
+  pose.Check();
+  if (!marker_error.empty()) marker_error.Check();
+  Require(marker_mask_dilation_px >= 0 && marker_mask_dilation_px <= 32,
+          "ReconstructOptions::marker_mask_dilation_px must be in [0, 32]");
+  Require(std::isfinite(ab_weight_reference) && ab_weight_reference >= 0.0,
+          "ReconstructOptions::ab_weight_reference must be >= 0");
+  Require(min_ab_weight > 0.0 && min_ab_weight <= 1.0,
+          "ReconstructOptions::min_ab_weight must be in (0, 1]");
+  Require(frame_step >= 1, "ReconstructOptions::frame_step must be >= 1");
+  Require(!max_frames || *max_frames >= 1, "ReconstructOptions::max_frames must be >= 1");
+  model_check.Check();
+  pose_consistency.Check();
+}
+
+std::optional<Eigen::AlignedBox3d> AutomaticRoi(const Image<float>& range_mm,
+                                                const AhatCamera& camera,
+                                                const Rigid3d& tool_from_ahat,
+                                                const AutoRoiOptions& options) {
+  options.Check();
+  Require(range_mm.width() == camera.width() && range_mm.height() == camera.height(),
+          "AutomaticRoi: the range image must have the camera's size");
+  std::vector<Eigen::Vector3d> points;  // valid points in `tool`, and those of the centre window
+  std::vector<double> cx, cy, cz;
+  const int u0 = (camera.width() - options.centre_window_px) / 2;
+  const int v0 = (camera.height() - options.centre_window_px) / 2;
+  for (int v = 0; v < range_mm.height(); ++v) {
+    for (int u = 0; u < range_mm.width(); ++u) {
+      if (range_mm(u, v) <= 0.0f || !camera.IsValid(u, v)) continue;
+      const Eigen::Vector3d p = tool_from_ahat * camera.PointFromRange(u, v, range_mm(u, v));
+      points.push_back(p);
+      if (u >= u0 && v >= v0 && u < u0 + options.centre_window_px &&
+          v < v0 + options.centre_window_px) {
+        cx.push_back(p.x());
+        cy.push_back(p.y());
+        cz.push_back(p.z());
+      }
+    }
+  }
+  if (cx.empty()) {  // nothing at the centre (e.g. only the head region is left): all points
+    for (const Eigen::Vector3d& p : points) {
+      cx.push_back(p.x());
+      cy.push_back(p.y());
+      cz.push_back(p.z());
+    }
+  }
+  if (cx.empty()) return std::nullopt;
+  const Eigen::Vector3d centre(Median(cx), Median(cy), Median(cz));
+  Eigen::AlignedBox3d box(centre);
+  for (const Eigen::Vector3d& p : points) {
+    if ((p - centre).norm() <= options.radius_mm) box.extend(p);
+  }
+  const Eigen::Vector3d margin = Eigen::Vector3d::Constant(options.margin_mm);
+  return Eigen::AlignedBox3d(box.min() - margin, box.max() + margin);
+}
+
+namespace {
+
+// One posed frame's range work, independent of other frames (run in parallel over a batch).
+struct PreparedFrame {
+  const TrackedFrame* tracked = nullptr;
+  AhatFrame frame;
+  Image<float> range_mm;
+  Image<float> weight;
+};
+
+void Prepare(PreparedFrame& p, const AhatCamera& camera, const ReconstructOptions& options) {
+  const double ab_threshold = p.tracked->ab_threshold;
+  p.range_mm = options.correct_range ? options.correct_range(p.frame, camera)
+                                     : RangeFromCodes(p.frame.range_mm);
+  Require(p.range_mm.width() == camera.width() && p.range_mm.height() == camera.height(),
+          "ReconstructSurface: the corrected range image must have the camera's size");
+  MaskMarkers(p.frame.ab, ab_threshold, options.marker_mask_dilation_px, p.range_mm);
+  if (options.head_region.enabled) {
+    SegmentationOptions seg;
+    seg.marker_ab_threshold = ab_threshold;
+    seg.transition_dilation_px = options.marker_mask_dilation_px;
+    seg.min_range_mm = options.tsdf.min_range_mm;
+    seg.max_range_mm = options.tsdf.max_range_mm;
+    seg.head_region = options.head_region;
+    const FrameSegmentation head = SegmentFrame(p.frame, camera, seg);
+    for (std::size_t i = 0; i < p.range_mm.size(); ++i) {
+      if (head.labels.data()[i] != static_cast<std::uint8_t>(PixelClass::kHead)) {
+        p.range_mm.data()[i] = 0.0f;
+      }
+    }
+  }
+  if (options.ab_weight_reference > 0.0) {
+    p.weight = AbWeights(p.frame, options.ab_weight_reference, options.min_ab_weight);
+  }
+}
+
+constexpr std::size_t kBatchFrames = 8;  // frames prepared in parallel
+
+// IntegrateChecked, counted in `result`.
+void FuseChecked(TsdfVolume& volume, Image<float> range_mm, const AhatCamera& camera,
+                 const Rigid3d& tool_from_ahat, const Image<float>& weight,
+                 const ReconstructOptions& options, ReconstructResult& result) {
+  const CheckedIntegration r = IntegrateChecked(volume, std::move(range_mm), camera, tool_from_ahat,
+                                                weight, options.model_check);
+  result.pixels_gated += r.pixels_gated;
+  if (r.check.verdict != ModelVerdict::kUnchecked) ++result.frames_model_checked;
+  if (r.check.verdict == ModelVerdict::kRefined) ++result.frames_refined;
+  if (r.fused) {
+    ++result.frames_fused;
+  } else {
+    ++result.frames_rejected;
+    ++result.rejected_by_reason[ToString(r.check.verdict)];
+  }
+}
+
+}  // namespace
+
+ReconstructResult ReconstructSurface(
+    const AhatRecording& recording, const AhatCamera& camera, const ToolGeometry& tool,
+    const ReconstructOptions& options,
+    const std::function<void(std::size_t, std::size_t)>& progress) {
+  options.Check();
+  const Clock::time_point start = Clock::now();
+  ReconstructResult result;
+  std::vector<std::size_t> frames;
+  for (std::size_t i = options.first_frame; i < recording.frame_count(); i += options.frame_step) {
+    if (options.max_frames && frames.size() >= *options.max_frames) break;
+    frames.push_back(i);
+  }
+  result.frames_considered = frames.size();
+  const std::size_t total = 2 * frames.size();  // progress: the tracking pass, then fusion
+  std::vector<TrackedFrame> tracked =
+      TrackFrames(recording, camera, tool, options, frames, result, [&](std::size_t done) {
+        if (progress) progress(done, total);
+      });
+  if (options.check_pose_consistency) {
+    result.frames_pose_checked = FlagPoseJumps(camera, options, tracked);
+  }
+  std::vector<const TrackedFrame*> posed;
+  for (const TrackedFrame& f : tracked) {
+    if (!f.ahat_from_tool) {
+      ++result.frames_skipped;
+      ++result.skipped_by_status[ToString(f.status)];
+    } else if (f.pose_jump) {
+      ++result.frames_rejected;
+      ++result.rejected_by_reason[ToString(PoseConsistency::kJump)];
+    } else {
+      posed.push_back(&f);
+    }
+  }
+  std::optional<TsdfVolume> volume;
+  if (options.tsdf.roi_in_tool) volume.emplace(options.tsdf, camera);
+  std::vector<PreparedFrame> batch;
+  for (std::size_t b = 0; b < posed.size(); b += kBatchFrames) {
+    const std::size_t count = std::min(kBatchFrames, posed.size() - b);
+    Clock::time_point t = Clock::now();
+    batch.resize(count);
+    for (std::size_t k = 0; k < count; ++k) {
+      batch[k].tracked = posed[b + k];
+      batch[k].frame = recording.ReadFrame(posed[b + k]->index);
+    }
+    result.read_s += Seconds(t);
+    t = Clock::now();
+    ParallelFor(0, static_cast<std::int64_t>(count), [&](std::int64_t k) {
+      Prepare(batch[static_cast<std::size_t>(k)], camera, options);
+    });
+    result.prepare_s += Seconds(t);
+    for (std::size_t k = 0; k < count; ++k) {
+      PreparedFrame& p = batch[k];
+      if (progress) progress(frames.size() + b + k + 1, total);
+      const Rigid3d tool_from_ahat = p.tracked->ahat_from_tool->Inverse();
+      if (!volume) {
+        TsdfOptions tsdf = options.tsdf;
+        tsdf.roi_in_tool = AutomaticRoi(p.range_mm, camera, tool_from_ahat, options.auto_roi);
+        if (!tsdf.roi_in_tool) {  // nothing valid at the image centre: try the next frame
+          ++result.frames_skipped;
+          ++result.skipped_by_status["no_roi"];
+          continue;
+        }
+        result.roi_automatic = true;
+        volume.emplace(tsdf, camera);
+      }
+      t = Clock::now();
+      FuseChecked(*volume, std::move(p.range_mm), camera, tool_from_ahat, p.weight, options,
+                  result);
+      result.fuse_s += Seconds(t);
+    }
+  }
+  if (progress) progress(total, total);
+  if (!volume) {
+    throw std::runtime_error("reconstruct: the tool '" + tool.name +
+                             "' was not tracked in any frame (no region of interest)");
+  }
+  result.roi_in_tool = *volume->options().roi_in_tool;
+  result.blocks = volume->block_count();
+  const Clock::time_point t = Clock::now();
+  TriangleMesh mesh = ExtractIsoSurface(*volume, options.mesh);
+  result.mesh_vertices_before_component = mesh.vertices.size();
+  result.mesh = options.largest_component ? LargestConnectedComponent(mesh) : std::move(mesh);
+  result.mesh_s = Seconds(t);
+  result.total_s = Seconds(start);
+  return result;
+}
+
+}  // namespace tofnav

@@ -1,0 +1,105 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The reconstruction pipeline's parts: automatic ROI, options, error statistics, evaluation.
+#include "tofnav/pipeline/reconstruct.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "tofnav/core/require.hpp"
+#include "tofnav/evaluation/reconstruct_evaluate.hpp"
+#include "tofnav/fusion/fusion_test_scenes.hpp"
+
+namespace tofnav {
+namespace {
+
+// A 128 px camera sees about 4.7 mm per pixel at 300 mm: the sampled rim of a sphere lies
+// within one pixel footprint of the analytic one.
+constexpr double kPixelFootprintMm = 5.0;
+constexpr double kExactTolMm = 1e-9;
+
+TEST(AutomaticRoi, BoundsTheSeenSphereCapPlusMargin) {
+  const AhatCamera camera(SmallFisheyeCalibration(128));
+  const Rigid3d tool_from_ahat(Eigen::Quaterniond::Identity(), Eigen::Vector3d(10, 20, 30));
+  const Eigen::Vector3d centre_in_tool(10, 20, 330);  // 300 mm straight ahead
+  constexpr double kRadiusMm = 50.0;
+  const Image<float> range = RenderSphere(camera, tool_from_ahat, centre_in_tool, kRadiusMm);
+  AutoRoiOptions options;
+  options.centre_window_px = 8;
+  options.margin_mm = 30.0;
+  const std::optional<Eigen::AlignedBox3d> roi =
+      AutomaticRoi(range, camera, tool_from_ahat, options);
+  ASSERT_TRUE(roi.has_value());
+  // Tangent circle of the cap: radius R sqrt(1 - (R/D)^2), at D - R^2 / D from the camera.
+  const double rim_mm = kRadiusMm * std::sqrt(1.0 - std::pow(kRadiusMm / 300.0, 2));
+  const double rim_z_mm = 300.0 - kRadiusMm * kRadiusMm / 300.0;
+  const Eigen::Vector3d lo(10 - rim_mm - 30, 20 - rim_mm - 30, 30 + 250 - 30);
+  const Eigen::Vector3d hi(10 + rim_mm + 30, 20 + rim_mm + 30, 30 + rim_z_mm + 30);
+  EXPECT_LE((roi->min() - lo).cwiseAbs().maxCoeff(), kPixelFootprintMm) << roi->min().transpose();
+  EXPECT_LE((roi->max() - hi).cwiseAbs().maxCoeff(), kPixelFootprintMm) << roi->max().transpose();
+  // Nothing valid at the centre: no ROI.
+  EXPECT_FALSE(AutomaticRoi(Image<float>(128, 128, 0.0f), camera, tool_from_ahat, options));
+}
+
+TEST(ReconstructOptions, CheckNamesTheBadField) {
+  ReconstructOptions options;
+  EXPECT_NO_THROW(options.Check());
+  options.frame_step = 0;
+  EXPECT_THROW(options.Check(), PreconditionError);
+  options = {};
+  options.marker_mask_dilation_px = -1;
+  EXPECT_THROW(options.Check(), PreconditionError);
+  options = {};
+  options.tsdf.voxel_size_mm = 0.0;
+  EXPECT_THROW(options.Check(), PreconditionError);
+  options = {};
+  options.model_check.pixel_stride = 0;
+  EXPECT_THROW(options.Check(), PreconditionError);
+  options = {};
+  options.pose_consistency.max_translation_mm = 0.0;
+  EXPECT_THROW(options.Check(), PreconditionError);
+}
+
+TEST(ComputeErrorStats, MedianIqrRmsOfAbsoluteValues) {
+  const ErrorStats s = ComputeErrorStats({-1.0, 2.0, 3.0, -4.0, 5.0});
+  EXPECT_EQ(s.count, 5u);
+  EXPECT_NEAR(s.median_mm, 3.0, kExactTolMm);
+  EXPECT_NEAR(s.iqr_mm, 2.0, kExactTolMm);  // quartiles 2 and 4 (linear interpolation)
+  EXPECT_NEAR(s.mean_signed_mm, 1.0, kExactTolMm);
+  EXPECT_NEAR(s.rms_mm, std::sqrt(11.0), kExactTolMm);
+  EXPECT_EQ(ComputeErrorStats({}).count, 0u);
+}
+
+TriangleMesh Square(double z_mm) {  // 100 mm square in the plane z, normal +z
+  TriangleMesh m;
+  m.vertices = {{-50, -50, z_mm}, {50, -50, z_mm}, {50, 50, z_mm}, {-50, 50, z_mm}};
+  m.triangles = {{0, 1, 2}, {0, 2, 3}};
+  return m;
+}
+
+TEST(EvaluateReconstruction, AssignsVerticesToTheNearestObjectWithTableRows) {
+  const std::vector<TruthSurface> truth = {{"hemisphere_size2", "nylon", false, Square(0.0)},
+                                           {"head", "nylon", true, Square(100.0)}};
+  TriangleMesh surface;
+  surface.vertices = {{0, 0, 0.5},   {10, 0, 0.5},  {0, 10, 0.5},   // 0.5 mm in front of the shape
+                      {0, 0, 99.75}, {5, 0, 99.75}, {0, 5, 99.75},  // 0.25 mm behind the head
+                      {0, 0, 50.0}};                                // outlier
+  surface.triangles = {{0, 1, 2}, {3, 4, 5}};
+  const ReconstructionEvaluation e = EvaluateReconstruction(surface, truth);
+  EXPECT_EQ(e.vertices, 7u);
+  EXPECT_EQ(e.outliers, 1u);
+  ASSERT_EQ(e.objects.size(), 2u);
+  EXPECT_EQ(e.objects[0].row, "HS");
+  EXPECT_EQ(e.objects[0].size, 2);
+  EXPECT_NEAR(e.objects[0].stats.median_mm, 0.5, kExactTolMm);
+  EXPECT_NEAR(e.objects[0].stats.mean_signed_mm, 0.5, kExactTolMm);
+  EXPECT_EQ(e.objects[1].row, "H");
+  EXPECT_NEAR(e.objects[1].stats.mean_signed_mm, -0.25, kExactTolMm);
+  EXPECT_EQ(e.all.count, 6u);
+  ASSERT_EQ(e.colored.vertex_colors.size(), 7u);
+  EXPECT_NEAR(e.colored.vertex_scalars[0], 0.5f, 1e-6f);
+  EXPECT_TRUE(std::isnan(e.colored.vertex_scalars[6]));  // the outlier has no error
+}
+
+}  // namespace
+}  // namespace tofnav

@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// 3D Slicer markups JSON writer for planned trajectories.
+#include "tofnav/scenario/plan_markups.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include "tofnav/io/file.hpp"
+
+namespace tofnav {
+namespace {
+
+using Json = nlohmann::ordered_json;
+
+constexpr const char* kMarkupsSchema =
+    "https://raw.githubusercontent.com/slicer/slicer/master/Modules/Loadable/Markups/Resources/"
+    "Schema/markups-schema-v1.0.3.json#";
+
+Json ControlPoint(int id, const char* label, const Eigen::Vector3d& position) {
+  return Json{{"id", std::to_string(id)},
+              {"label", label},
+              {"position", {position.x(), position.y(), position.z()}},
+              {"positionStatus", "defined"}};
+}
+
+}  // namespace
+
+std::string EncodeTrajectoryMarkups(const std::vector<sim::Trajectory>& plan) {
+  Json markups = Json::array();
+  for (const sim::Trajectory& t : plan) {
+    markups.push_back(Json{{"type", "Line"},
+                           {"name", t.name},
+                           {"coordinateSystem", "LPS"},
+                           {"coordinateUnits", "mm"},
+                           {"locked", true},
+                           {"controlPoints",
+                            {ControlPoint(1, "entry", t.entry_in_image),
+                             ControlPoint(2, "target", t.target_in_image)}}});
+  }
+  return Json{{"@schema", kMarkupsSchema}, {"markups", markups}}.dump(2) + "\n";
+}
+
+void WriteTrajectoryMarkups(const std::filesystem::path& path,
+                            const std::vector<sim::Trajectory>& plan) {
+  WriteFileAtomically(path, EncodeTrajectoryMarkups(plan));
+}
+
+}  // namespace tofnav
