@@ -9,7 +9,7 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "tofnav/core/parallel_for.hpp"
+#include "tofnav/core/frame_batches.hpp"
 #include "tofnav/correction/correct_range.hpp"
 #include "tofnav/correction/depth_error_model.hpp"
 #include "tofnav/correction/surface_costs.hpp"
@@ -238,18 +238,15 @@ std::vector<IdentificationFrame> PrepareIdentificationFrames(
     const std::function<void(std::size_t, std::size_t)>& progress) {
   constexpr std::size_t kBatch = 16;
   std::vector<IdentificationFrame> frames(indices.size());
-  std::vector<AhatFrame> batch;
-  for (std::size_t b = 0; b < indices.size(); b += kBatch) {
-    const std::size_t n = std::min(kBatch, indices.size() - b);
-    batch.resize(n);
-    for (std::size_t k = 0; k < n; ++k) batch[k] = read(indices[b + k]);
-    ParallelFor(0, static_cast<std::int64_t>(n), [&](std::int64_t k) {
-      const std::size_t i = b + static_cast<std::size_t>(k);
-      frames[i] = PrepareIdentificationFrame(batch[static_cast<std::size_t>(k)], camera,
-                                             marker_model, indices[i], sampling);
-    });
-    if (progress) progress(b + n, indices.size());
-  }
+  ForEachInBatches<AhatFrame>(
+      indices.size(), kBatch, [&](std::size_t i) { return read(indices[i]); },
+      [&](AhatFrame& frame, std::size_t i) {
+        frames[i] = PrepareIdentificationFrame(frame, camera, marker_model, indices[i], sampling);
+      },
+      [&](AhatFrame&, std::size_t i) {
+        const bool batch_done = (i + 1) % kBatch == 0 || i + 1 == indices.size();
+        if (progress && batch_done) progress(i + 1, indices.size());
+      });
   return frames;
 }
 

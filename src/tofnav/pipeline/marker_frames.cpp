@@ -4,7 +4,7 @@
 
 #include <algorithm>
 
-#include "tofnav/core/parallel_for.hpp"
+#include "tofnav/core/frame_batches.hpp"
 
 namespace tofnav {
 namespace {
@@ -17,23 +17,22 @@ void ForEachFrameDetections(
     const MarkerSource& source, const MarkerDetectionOptions& options,
     const std::function<void(std::size_t, const AhatFrame&, MarkerDetectionResult&)>& sink,
     const std::function<void(std::size_t, std::size_t)>& progress) {
-  std::vector<AhatFrame> frames;
-  std::vector<MarkerDetectionResult> detections;
-  for (std::size_t first = 0; first < source.frames; first += kBatchFrames) {
-    const std::size_t count = std::min(kBatchFrames, source.frames - first);
-    frames.clear();
-    for (std::size_t i = 0; i < count; ++i)
-      frames.push_back(source.recording->ReadFrame(first + i));
-    detections.assign(count, {});
-    ParallelFor(0, static_cast<std::int64_t>(count), [&](std::int64_t i) {
-      const auto k = static_cast<std::size_t>(i);
-      detections[k] = LocateMarkers(frames[k], *source.camera, options);
-    });
-    for (std::size_t i = 0; i < count; ++i) {
-      sink(first + i, frames[i], detections[i]);
-      if (progress) progress(first + i + 1, source.frames);
-    }
-  }
+  struct Item {
+    AhatFrame frame;
+    MarkerDetectionResult detection;
+  };
+  ForEachInBatches<Item>(
+      source.frames, kBatchFrames,
+      [&](std::size_t i) {
+        return Item{source.recording->ReadFrame(i), {}};
+      },
+      [&](Item& item, std::size_t) {
+        item.detection = LocateMarkers(item.frame, *source.camera, options);
+      },
+      [&](Item& item, std::size_t i) {
+        sink(i, item.frame, item.detection);
+        if (progress) progress(i + 1, source.frames);
+      });
 }
 
 void ForEachFrameMarkers(

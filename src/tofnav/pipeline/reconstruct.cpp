@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
-#include "tofnav/core/parallel_for.hpp"
+#include "tofnav/core/frame_batches.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/correction/frame_segmentation.hpp"
 #include "tofnav/fusion/mesh_components.hpp"
@@ -228,42 +228,37 @@ ReconstructResult ReconstructSurface(
   }
   std::optional<TsdfVolume> volume;
   if (options.tsdf.roi_in_tool) volume.emplace(options.tsdf, camera);
-  std::vector<PreparedFrame> batch;
-  for (std::size_t b = 0; b < posed.size(); b += kBatchFrames) {
-    const std::size_t count = std::min(kBatchFrames, posed.size() - b);
-    Clock::time_point t = Clock::now();
-    batch.resize(count);
-    for (std::size_t k = 0; k < count; ++k) {
-      batch[k].tracked = posed[b + k];
-      batch[k].frame = recording.ReadFrame(posed[b + k]->index);
-    }
-    result.read_s += Seconds(t);
-    t = Clock::now();
-    ParallelFor(0, static_cast<std::int64_t>(count), [&](std::int64_t k) {
-      Prepare(batch[static_cast<std::size_t>(k)], camera, options);
-    });
-    result.prepare_s += Seconds(t);
-    for (std::size_t k = 0; k < count; ++k) {
-      PreparedFrame& p = batch[k];
-      if (progress) progress(frames.size() + b + k + 1, total);
-      const Rigid3d tool_from_ahat = p.tracked->ahat_from_tool->Inverse();
-      if (!volume) {
-        TsdfOptions tsdf = options.tsdf;
-        tsdf.roi_in_tool = AutomaticRoi(p.range_mm, camera, tool_from_ahat, options.auto_roi);
-        if (!tsdf.roi_in_tool) {  // nothing valid at the image centre: try the next frame
-          ++result.frames_skipped;
-          ++result.skipped_by_status["no_roi"];
-          continue;
+  BatchTimes times;
+  ForEachInBatches<PreparedFrame>(
+      posed.size(), kBatchFrames,
+      [&](std::size_t p) {
+        PreparedFrame prepared;
+        prepared.tracked = posed[p];
+        prepared.frame = recording.ReadFrame(posed[p]->index);
+        return prepared;
+      },
+      [&](PreparedFrame& prepared, std::size_t) { Prepare(prepared, camera, options); },
+      [&](PreparedFrame& p, std::size_t position) {
+        if (progress) progress(frames.size() + position + 1, total);
+        const Rigid3d tool_from_ahat = p.tracked->ahat_from_tool->Inverse();
+        if (!volume) {
+          TsdfOptions tsdf = options.tsdf;
+          tsdf.roi_in_tool = AutomaticRoi(p.range_mm, camera, tool_from_ahat, options.auto_roi);
+          if (!tsdf.roi_in_tool) {  // nothing valid at the image centre: try the next frame
+            ++result.frames_skipped;
+            ++result.skipped_by_status["no_roi"];
+            return;
+          }
+          result.roi_automatic = true;
+          volume.emplace(tsdf, camera);
         }
-        result.roi_automatic = true;
-        volume.emplace(tsdf, camera);
-      }
-      t = Clock::now();
-      FuseChecked(*volume, std::move(p.range_mm), camera, tool_from_ahat, p.weight, options,
-                  result);
-      result.fuse_s += Seconds(t);
-    }
-  }
+        FuseChecked(*volume, std::move(p.range_mm), camera, tool_from_ahat, p.weight, options,
+                    result);
+      },
+      &times);
+  result.read_s += times.read_s;
+  result.prepare_s += times.prepare_s;
+  result.fuse_s += times.consume_s;
   if (progress) progress(total, total);
   if (!volume) {
     throw std::runtime_error("reconstruct: the tool '" + tool.name +

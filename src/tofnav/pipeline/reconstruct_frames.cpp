@@ -3,20 +3,13 @@
 #include "tofnav/pipeline/reconstruct_frames.hpp"
 
 #include <algorithm>
-#include <chrono>
 
-#include "tofnav/core/parallel_for.hpp"
+#include "tofnav/core/frame_batches.hpp"
 #include "tofnav/tracking/pose_consistency.hpp"
 #include "tofnav/tracking/tool_tracker.hpp"
 
 namespace tofnav {
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double Seconds(Clock::time_point since) {
-  return std::chrono::duration<double>(Clock::now() - since).count();
-}
 
 constexpr std::size_t kBatchFrames = 16;  // frames whose markers are located in parallel
 
@@ -32,41 +25,41 @@ std::vector<TrackedFrame> TrackFrames(const AhatRecording& recording, const Ahat
   tracker_options.filter_enabled = false;  // per-frame measured poses: a filter lags (5.2)
   ToolTracker tracker({tool}, tracker_options);
   std::vector<TrackedFrame> out(frames.size());
-  std::vector<AhatFrame> batch;
-  std::vector<std::vector<DetectedMarker>> markers;
-  for (std::size_t b = 0; b < frames.size(); b += kBatchFrames) {
-    const std::size_t count = std::min(kBatchFrames, frames.size() - b);
-    Clock::time_point t = Clock::now();
-    batch.resize(count);
-    markers.resize(count);
-    for (std::size_t k = 0; k < count; ++k) batch[k] = recording.ReadFrame(frames[b + k]);
-    result.read_s += Seconds(t);
-    t = Clock::now();
-    ParallelFor(0, static_cast<std::int64_t>(count), [&](std::int64_t i) {
-      const auto k = static_cast<std::size_t>(i);
-      MarkerDetectionResult detection = LocateMarkers(batch[k], camera, options.detection);
-      out[b + k].ab_threshold = detection.ab_threshold;
-      markers[k] = options.marker_error.empty()
-                       ? std::move(detection.markers)
-                       : CorrectMarkerRanges(std::move(detection.markers), options.marker_error);
-    });
-    result.prepare_s += Seconds(t);
-    t = Clock::now();
-    for (std::size_t k = 0; k < count; ++k) {
-      TrackedFrame& f = out[b + k];
-      f.index = frames[b + k];
-      f.timestamp_s = batch[k].timestamp_s();
-      f.world_from_rig = batch[k].world_from_rig;
-      const TrackedTool tracked = tracker.Track(markers[k], f.timestamp_s).tools[0];
-      f.status = tracked.status();
-      const bool posed =
-          f.status == ToolStatus::kOk ||
-          (options.accept_partially_occluded && f.status == ToolStatus::kPartiallyOccluded);
-      if (posed) f.ahat_from_tool = tracked.measurement.ahat_from_tool;
-      if (progress) progress(b + k + 1);
-    }
-    result.track_s += Seconds(t);
-  }
+  struct Item {
+    AhatFrame frame;
+    std::vector<DetectedMarker> markers;
+  };
+  BatchTimes times;
+  ForEachInBatches<Item>(
+      frames.size(), kBatchFrames,
+      [&](std::size_t p) {
+        return Item{recording.ReadFrame(frames[p]), {}};
+      },
+      [&](Item& item, std::size_t p) {
+        MarkerDetectionResult detection = LocateMarkers(item.frame, camera, options.detection);
+        out[p].ab_threshold = detection.ab_threshold;
+        item.markers =
+            options.marker_error.empty()
+                ? std::move(detection.markers)
+                : CorrectMarkerRanges(std::move(detection.markers), options.marker_error);
+      },
+      [&](Item& item, std::size_t p) {
+        TrackedFrame& f = out[p];
+        f.index = frames[p];
+        f.timestamp_s = item.frame.timestamp_s();
+        f.world_from_rig = item.frame.world_from_rig;
+        const TrackedTool tracked = tracker.Track(item.markers, f.timestamp_s).tools[0];
+        f.status = tracked.status();
+        const bool posed =
+            f.status == ToolStatus::kOk ||
+            (options.accept_partially_occluded && f.status == ToolStatus::kPartiallyOccluded);
+        if (posed) f.ahat_from_tool = tracked.measurement.ahat_from_tool;
+        if (progress) progress(p + 1);
+      },
+      &times);
+  result.read_s += times.read_s;
+  result.prepare_s += times.prepare_s;
+  result.track_s += times.consume_s;
   return out;
 }
 
