@@ -6,7 +6,7 @@
 # heading (`docs/tracking.md, "Pivot calibration"`). A section number must be the number of a
 # heading (`## 4.`, `### 4.5`); a quoted name must occur in a heading line or open a bold paragraph
 # label (`**Screening**`). Also fails on notes outside the repository (`shared/reference`,
-# ARCHITECTURE.md, STYLE.md) and on a numbered citation without the `docs/` prefix (`ahat.md 4.5`).
+# ARCHITECTURE.md, STYLE.md) and on a numbered citation without the `docs/` prefix (`frames.md 2`).
 # Scanned: src apps python tests bench fuzz docs README.md. Called by scripts/test.sh.
 set -euo pipefail
 cd "$(dirname "$0")/.."
