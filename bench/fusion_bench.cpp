@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // TSDF fusion of 512 x 512 AHAT frames of an ellipsoid head and marching cubes of the result.
-// Targets (reconstruction.md section 9): <= 3 ms per frame on 2 threads, <= 20 ms marching cubes.
+// Targets (docs/reconstruction.md 6.4): <= 3 ms per frame on 2 threads, <= 20 ms marching cubes.
 // The Open3D side-by-side comparison (libopen3d-dev, optional) is a later step.
 #include <benchmark/benchmark.h>
 #include <tbb/global_control.h>

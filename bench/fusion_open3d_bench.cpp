@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Side by side: our TSDF fusion of AHAT frames vs Open3D 0.16's ScalableTSDFVolume fed the same
-// frames re-sampled to a pinhole (reconstruction.md 1.5): same voxel (1 mm), truncation (4 mm),
+// frames re-sampled to a pinhole (docs/reconstruction.md 6.2): same 1 mm voxels, 4 mm truncation,
 // frames and poses, both on the same threads. Optional: built only when find_package(Open3D)
 // succeeds. Threads: ours through TBB, Open3D through OpenMP, both set to the argument.
 #include <benchmark/benchmark.h>

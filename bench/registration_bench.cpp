@@ -24,7 +24,7 @@ namespace {
 constexpr int kSkin130kSegments = 512;  // 512 x 256 rings: 131 k vertices
 constexpr int kSkin100kSegments = 448;  // 100 k vertices
 constexpr std::size_t kSourcePoints = 60000;
-constexpr double kGateMm = 10.0;  // as in the reference measurement (reconstruction.md sec. 2)
+constexpr double kGateMm = 10.0;  // as in the reference measurement (docs/reconstruction.md 6.3)
 constexpr int kIcpIterations = 30;
 
 struct IcpScene {

@@ -34,7 +34,7 @@ struct EvdCase {
 };
 
 /// evd-usecase with `frames` frames; the plan and f_rf from the truth. The reference is both
-/// headframe tools joined into one (ARCHITECTURE.md: rigidly joined tools count as one) in the
+/// headframe tools joined into one (docs/frames.md: rigidly joined tools count as one) in the
 /// frame of "reference_left". With `instrument`, the reference is "reference_left" alone and
 /// "reference_right" is tracked as an instrument whose virtual tip lies 10 mm before the entry
 /// of trajectory 0 on its planned line (guidance truth: 10 mm, 0 rad, 10 mm + length).

@@ -52,7 +52,7 @@ MAX_POSITION_RMS_MM = 0.25
 # off-axis) give 0.28-0.32 deg over 400 frames with the pose refinement (docs/tracking.md section 5). This
 # short run gives 0.23-0.29 deg (0.28-0.33 deg with Kabsch alone): a regression bound until then.
 MAX_ROTATION_RMS_DEG = 0.32
-# The filtered orientation (filtered in the world frame with the rig pose, tracking.md section 5)
+# The filtered orientation (filtered in the world frame with the rig pose, docs/tracking.md 5)
 # meets the 0.25 deg on evd-usecase's moving camera, and the filtered position 0.25 mm.
 MAX_FILTERED_ROTATION_RMS_DEG = 0.25
 MIN_FULLY_VISIBLE_FRAMES = 20
@@ -77,7 +77,7 @@ for t in seen:
     filtered = t["filtered_fully_visible"]
     check(filtered["rms_deg"] <= MAX_FILTERED_ROTATION_RMS_DEG,
           f"evd {t['tool']}: filtered rotation RMS {filtered['rms_deg']:.3f} deg")
-    # One stream meets both: the position filter follows the camera's motion (tracking.md).
+    # One stream meets both: the position filter follows the camera's motion (docs/tracking.md 5).
     check(filtered["rms_mm"] <= MAX_POSITION_RMS_MM,
           f"evd {t['tool']}: filtered position RMS {filtered['rms_mm']:.3f} mm")
     check(t["tracked_fraction"] >= MIN_TRACKED_FRACTION, f"evd {t['tool']}: tracked {t['tracked_fraction']:.3f}")

@@ -33,8 +33,8 @@ RenderedTools Render(const std::vector<std::pair<ToolGeometry, Rigid3d>>& tools,
     scene.AddTool(
         testing::SphereTool(tool.name, tool.markers_in_tool, tool.marker_diameter_mm, retro, pose));
   }
-  // 4 x 4 sub-rays, the realistic setting of tof_physics.md: 2 x 2 jittered sub-rays add a rim
-  // coverage noise (~0.07 px of centroid) that a real pixel, integrating its area, does not have.
+  // 4 x 4 sub-rays, the realistic setting (docs/tof_physics.md 1): 2 x 2 jittered sub-rays add a
+  // rim coverage noise (~0.07 px of centroid) that a real pixel, integrating its area, lacks.
   sim::RenderOptions options;
   options.supersampling = 4;
   RenderedTools r{testing::RenderMarkers(scene, seed, options), true};

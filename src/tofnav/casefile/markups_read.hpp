@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Planned trajectories from 3D Slicer markups: .mrk.json (slicer_igtl.md section 5.4) and .fcsv.
+// Planned trajectories from 3D Slicer markups: .mrk.json and .fcsv (docs/openigtlink.md 5.4).
 #pragma once
 
 #include <cstdint>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Tool definition files: our JSON (tracking.md section 5) and NDI .rom marker import.
+// Tool definition files: our JSON (docs/tracking.md 2) and NDI .rom marker import (section 8).
 #pragma once
 
 #include <cstdint>
@@ -28,8 +28,8 @@ ToolGeometry ReadToolJson(const std::filesystem::path& path);
 void WriteToolJson(const std::filesystem::path& path, const ToolGeometry& tool);
 
 /// NDI SROM (.rom): only the marker count (uint8 at byte 28) and the marker positions
-/// (little-endian float32 x, y, z in mm from byte 72) are read (tracking.md section 5; the rest
-/// of the layout is unverified). Markers are taken as `diameter_mm` spheres; name = file stem.
+/// (little-endian float32 x, y, z in mm from byte 72) are read (docs/tracking.md section 8; the
+/// rest of the layout is unverified). Markers are taken as `diameter_mm` spheres; name = file stem.
 /// Throws IoError when the file is short, or the tool fails ToolGeometry::Check().
 ToolGeometry DecodeNdiRom(std::span<const std::uint8_t> bytes, const std::filesystem::path& path,
                           double diameter_mm = 11.5);

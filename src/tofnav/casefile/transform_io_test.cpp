@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Transform files: the 3D Slicer .tfm oracle (slicer_igtl.md sec. 5.3), round trips, rejections.
+// Transform files: the 3D Slicer .tfm oracle (docs/openigtlink.md 5.3), round trips, rejections.
 #include "tofnav/casefile/transform_io.hpp"
 
 #include <gmock/gmock.h>
@@ -38,7 +38,7 @@ Rigid3d Translation(double x, double y, double z) {
   return {Eigen::Quaterniond::Identity(), Eigen::Vector3d(x, y, z)};
 }
 
-// Oracle (slicer_igtl.md sec. 5.3): a ToParent translation of +10 mm along R is stored as
+// Oracle (docs/openigtlink.md sec. 5.3): a ToParent translation of +10 mm along R is stored as
 // "1 0 0 0 1 0 0 0 1 10 0 0"; +10 mm along S as "... 0 0 -10".
 TEST(ItkTransform, SlicerOracleTranslationAlongRight) {
   const Rigid3d parent_from_child = DecodeItkTransform(Bytes(Tfm("1 0 0 0 1 0 0 0 1 10 0 0")));

@@ -11,7 +11,7 @@
 
 namespace tofnav {
 
-/// How the incidence angle enters the model (beyond the paper: tof_physics.md section 11).
+/// How the incidence angle enters the model (beyond the paper: docs/tof_physics.md section 11).
 enum class AngleTerm {
   kTheta,         // C3 * theta: the paper's Eq. (3)
   kThetaSquared,  // C3 * theta^2

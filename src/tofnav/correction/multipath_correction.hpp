@@ -19,7 +19,7 @@ namespace tofnav {
 struct MultipathCorrectionOptions {
   bool enabled = true;
   /// K [counts m^2]: the AB of an albedo-1 Lambertian surface facing the camera on its axis at
-  /// 1 m, a constant of the device's illuminator (docs/correction.md 7.2).
+  /// 1 m, a constant of the device's illuminator (docs/correction.md 7).
   double ab_scale = 65.0;
   /// V = cos^p of the pixel's off-axis angle: the illuminator's fall-off, dimensionless.
   double falloff_power = 2.0;

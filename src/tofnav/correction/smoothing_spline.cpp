@@ -15,7 +15,7 @@ struct Sites {
   std::vector<double> x, y, w;
 };
 
-// Sorts by x and merges equal x: weighted mean y, summed weight (tof_physics.md 12.4).
+// Sorts by x and merges equal x: weighted mean y, summed weight (docs/tof_physics.md 12.4).
 Sites MergeSites(std::span<const double> x, std::span<const double> y,
                  std::span<const double> weights) {
   std::vector<std::size_t> order(x.size());
@@ -43,7 +43,7 @@ struct Band {
   std::vector<double> k0, k1, k2;
 };
 
-// The csaps system of tof_physics.md 12.3 over m = n - 2 interior knots: R, B = Q^T W^-1 Q and
+// The csaps system of docs/tof_physics.md 12.3 over m = n - 2 interior knots: R, B = Q^T W^-1 Q and
 // Q^T y are built once; Solve(p) factors M = 6 (1 - p) B + p R = L D L^T.
 class ReinschSystem {
  public:

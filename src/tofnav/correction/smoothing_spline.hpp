@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Cubic smoothing spline with MATLAB/Octave csaps semantics (tof_physics.md section 12).
+// Cubic smoothing spline with MATLAB/Octave csaps semantics (docs/tof_physics.md section 12).
 #pragma once
 
 #include <optional>

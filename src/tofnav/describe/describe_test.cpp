@@ -57,7 +57,7 @@ TEST(Describe, CalibrationFolderReportsTheCameraModel) {
   const auto json = nlohmann::json::parse(DescribeAsJson(folder));
   EXPECT_EQ(json["kind"], "calibration");
   EXPECT_EQ(json["sample_offset_px"], 0.0);  // square K: the hl2ss >= v1.0.37 rule
-  // Equidistant f = 254 px over the valid centre row: about 115 degrees (ahat.md section 10).
+  // Equidistant f = 254 px over the valid centre row: about 115 degrees (docs/ahat.md section 10).
   EXPECT_NEAR(json["centre_row_fov_deg"].get<double>(), 115.3, 1.0);
   EXPECT_GT(json["valid_pixels"].get<int>(), 190000);
 }

@@ -62,7 +62,7 @@ std::int64_t UpdateRowT(const KernelInputs in, const KernelRow row, float* __res
       range = top + fv * (bottom - top);
     }
     // AHAT range is radial: the signed distance along the ray is range - |p|, not a z
-    // difference (ahat.md section 9).
+    // difference (docs/ahat.md section 9).
     const float sdf = range - distance;
     if (sdf < -in.truncation_mm) continue;
     float w = 1.0f;

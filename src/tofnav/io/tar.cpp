@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// POSIX ustar index and writer (ahat.md section 7.2).
+// POSIX ustar index and writer (docs/ahat.md section 7.2).
 #include "tofnav/io/tar.hpp"
 
 #include <algorithm>

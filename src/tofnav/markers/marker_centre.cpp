@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Sphere and disc marker centres along the detected ray (ahat.md 9.3, tracking.md 6.2).
+// Sphere and disc marker centres along the detected ray (docs/ahat.md 9.3, docs/tracking.md 9.2).
 #include "tofnav/markers/marker_centre.hpp"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Marker centre from a detected marker's ray, (corrected) surface range and radius (ahat.md 9.3).
+// Marker centre from a detected marker's ray, corrected surface range, radius (docs/ahat.md 9.3).
 #pragma once
 
 #include <Eigen/Core>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // LocateMarkers: threshold, components, gates, centroid, ray and robust range
-// (tracking.md 6.1-6.2).
+// (docs/tracking.md 9.1-9.2).
 #include "tofnav/markers/marker_detection.hpp"
 
 #include <algorithm>
@@ -152,7 +152,7 @@ class BlobMeasurer {
   // AB-weighted centroid, w = AB - threshold + 1 (> 0 on every blob pixel): rim pixels weigh by
   // their coverage, so edges are sub-pixel; the clipped PSF tail is symmetric. The illumination
   // fall-off across a blob (cos^p of the off-axis angle, 1 / d^2) pulls it towards the image
-  // centre by ~2e-4 of the off-axis distance (tracking.md 6.2 accepts this for tracking; the
+  // centre by ~2e-4 of the off-axis distance (docs/tracking.md 9.2 accepts this for tracking; the
   // stage reference, which must not be biased, uses the capped centroid instead).
   // Returns it and, in the same pass, the reference centroid: weights capped at that of AB =
   // `full_ab` (DetectedMarker::reference_ray_in_ahat).
@@ -210,7 +210,8 @@ class BlobMeasurer {
     return d;
   }
 
-  // Area against pi/4 (D/R)^2 f_u f_v for the min and max diameters (tracking.md 6.2 wrap check).
+  // Area against pi/4 (D/R)^2 f_u f_v for the min and max diameters: the wrap check of
+  // docs/tracking.md 9.2.
   bool SizeMatchesRange(const DetectedMarker& marker) const {
     const double pitch_mm = marker.pixel_pitch_rad * marker.surface_range_mm;
     const double px_per_mm2 = std::numbers::pi / 4.0 / (pitch_mm * pitch_mm);

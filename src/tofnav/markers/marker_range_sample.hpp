@@ -4,8 +4,8 @@
 
 namespace tofnav {
 
-/// delta = d_measured - d_true at the measured surface range d (tof_physics.md 5.3). Produced by
-/// MeasureMarkerRangeErrors (tracking/), consumed by FitMarkerRangeModel (correction/).
+/// delta = d_measured - d_true at the measured surface range d (docs/tof_physics.md 5.3). Produced
+/// by MeasureMarkerRangeErrors (tracking/), consumed by FitMarkerRangeModel (correction/).
 struct MarkerRangeSample {
   double range_mm = 0.0;  // measured surface range d
   double error_mm = 0.0;  // delta

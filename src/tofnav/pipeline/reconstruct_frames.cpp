@@ -22,7 +22,8 @@ std::vector<TrackedFrame> TrackFrames(const AhatRecording& recording, const Ahat
                                       const std::function<void(std::size_t)>& progress) {
   ToolTrackerOptions tracker_options;
   tracker_options.pose = options.pose;
-  tracker_options.filter_enabled = false;  // per-frame measured poses: a filter lags (5.2)
+  // Per-frame measured poses: a filter lags (docs/reconstruction.md 6.1).
+  tracker_options.filter_enabled = false;
   ToolTracker tracker({tool}, tracker_options);
   std::vector<TrackedFrame> out(frames.size());
   struct Item {

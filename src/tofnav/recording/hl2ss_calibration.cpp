@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// hl2ss AHAT calibration: the `rm_depth_ahat/` folder and the Mode-2 blob (ahat.md section 5).
+// hl2ss AHAT calibration: the `rm_depth_ahat/` folder and the Mode-2 blob (docs/ahat.md section 5).
 #include "tofnav/recording/hl2ss_calibration.hpp"
 
 #include <array>
@@ -23,7 +23,7 @@ constexpr std::size_t kPixels = kAhatPixels;
 constexpr std::size_t kTableBytes = 2 * kPixels * sizeof(float);  // interleaved (x, y)
 constexpr std::size_t kMatrixBytes = 16 * sizeof(float);
 constexpr std::size_t kScalarBytes = sizeof(float);
-// Mode-2 float offsets (ahat.md section 5.1).
+// Mode-2 float offsets (docs/ahat.md section 5.1).
 constexpr std::size_t kMode2X = 0;
 constexpr std::size_t kMode2Y = kPixels;
 constexpr std::size_t kMode2Extrinsics = 2 * kPixels;
@@ -60,7 +60,7 @@ AhatCalibration FromStored(const StoredCalibration& stored, const std::filesyste
     Require(*override_px == 0.0 || *override_px == 0.5, "sample offset override must be 0 or 0.5");
     calibration.sample_offset_px = *override_px;
   } else {
-    // Auto rule (ahat.md 5.3): a square pinhole means hl2ss >= v1.0.37, sampled at (i, j).
+    // Auto rule (docs/ahat.md 5.3): a square pinhole means hl2ss >= v1.0.37, sampled at (i, j).
     calibration.sample_offset_px = k[0] == k[1] ? 0.0 : 0.5;
   }
   return calibration;

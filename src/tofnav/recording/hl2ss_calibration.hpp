@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// hl2ss AHAT calibration: the `rm_depth_ahat/` folder and the Mode-2 blob (ahat.md section 5).
+// hl2ss AHAT calibration: the `rm_depth_ahat/` folder and the Mode-2 blob (docs/ahat.md section 5).
 #pragma once
 
 #include <cstdint>
@@ -18,7 +18,7 @@ constexpr std::size_t kHl2ssMode2Bytes = 4'194'392;
 /// Reads `<path>/rm_depth_ahat/` or, when `path` is that folder, `<path>/`: uv2xy.bin,
 /// extrinsics.bin, intrinsics.bin, undistort_map.bin, scale.bin, alias.bin (exact sizes).
 /// The files do not record the table's sample offset s: `sample_offset_override` (0 or 0.5)
-/// wins, else the auto rule of ahat.md 5.3 applies (fx == fy -> 0, otherwise 0.5).
+/// wins, else the auto rule of docs/ahat.md 5.3 applies (fx == fy -> 0, otherwise 0.5).
 AhatCalibration ReadHl2ssCalibration(const std::filesystem::path& path,
                                      std::optional<double> sample_offset_override = std::nullopt);
 

@@ -20,7 +20,7 @@ constexpr std::uint64_t kHl2ssTicksBytes = 8;          // u64 sensor_ticks
 constexpr std::uint64_t kHl2ssPoseBytes = 64;          // f32[16], mode 1 only
 constexpr std::uint32_t kHl2ssRawPlaneBytes = kAhatPixels * sizeof(std::uint16_t);
 
-/// Bytes of a RAW AB blob (ahat.md 3.5): depth and AB planes in SAME mode, AB only with ZDEPTH.
+/// Bytes of a RAW AB blob (docs/ahat.md 3.5): depth and AB planes in SAME mode, AB in ZDEPTH.
 std::uint32_t Hl2ssRawAbBlobBytes(Hl2ssDepthProfile profile_z);
 
 /// "SAME+RAW", "ZDEPTH+H265_MAIN", ...
@@ -33,9 +33,9 @@ struct Hl2ssPayloadSizes {
   std::uint32_t size_ab = 0;  // 0: an empty packet (encoder hiccup), skipped by readers
 };
 
-/// Detects a packet's payload layout (ahat.md 3.4) from its payload_size and first payload bytes
-/// `head` (8 bytes, fewer only when the payload is shorter), and checks it against the profile.
-/// IoError naming `source` and the offending field's offset (the packet starts at
+/// Detects a packet's payload layout (docs/ahat.md 3.4) from its payload_size and first payload
+/// bytes `head` (8 bytes, fewer only when the payload is shorter), and checks it against the
+/// profile. IoError naming `source` and the offending field's offset (the packet starts at
 /// `packet_offset`).
 Hl2ssPayloadSizes ClassifyHl2ssPayload(const Hl2ssAhatConfig& config, std::uint32_t payload_size,
                                        std::span<const std::uint8_t> head,

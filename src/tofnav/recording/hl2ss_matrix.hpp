@@ -20,8 +20,8 @@ DirectXMatrix DirectXFromBytes(std::span<const std::uint8_t, 64> bytes);
 std::array<std::uint8_t, 64> BytesFromDirectX(const DirectXMatrix& matrix);
 
 /// `b_from_a` [mm] from the hl2ss matrix M mapping a to b as p_b = [p_a 1] * M, translation in
-/// elements 12..14 in metres (ahat.md section 9.1): the column-vector form is M^T. IoError naming
-/// `source` and `offset` (where the matrix starts) when M is not rigid.
+/// elements 12..14 in metres (docs/ahat.md section 9.1): the column-vector form is M^T. IoError
+/// naming `source` and `offset` (where the matrix starts) when M is not rigid.
 Rigid3d RigidFromDirectX(const DirectXMatrix& matrix, const std::filesystem::path& source,
                          std::uint64_t offset);
 /// The hl2ss matrix of `b_from_a`: rotation transposed, translation in metres in elements 12..14.

@@ -34,7 +34,7 @@ std::span<std::uint8_t> AsBytes(Image<std::uint16_t>& image) {
   return {reinterpret_cast<std::uint8_t*>(image.data()), image.size() * sizeof(std::uint16_t)};
 }
 
-/// d >= 4090 -> 0 (ahat.md section 1); branch-free so it vectorises.
+/// d >= 4090 -> 0 (docs/ahat.md section 1); branch-free so it vectorises.
 void ZeroInvalidRange(Image<std::uint16_t>& range_mm) {
   std::uint16_t* pixels = range_mm.data();
   const std::size_t count = range_mm.size();
@@ -220,7 +220,7 @@ AhatFrame Hl2ssRecording::ReadFrame(std::size_t index) const {
                         std::to_string(frame.range_mm.width()) + " x " +
                         std::to_string(frame.range_mm.height()));
     }
-    frame.depth_step_mm = 2.0;  // exact at 201..749 mm, 2 mm steps above (ahat.md 4.5)
+    frame.depth_step_mm = 2.0;  // exact at 201..749 mm, 2 mm steps above (docs/ahat.md 4.5)
     cursor += packet.size_z;
   }
   ReadAt(cursor, AsBytes(frame.ab), "RAW AB plane");
@@ -243,7 +243,7 @@ AhatFrame Hl2ssRecording::ReadFrame(std::size_t index) const {
     const auto pose_span =
         std::span(tail).subspan(has_ticks ? kHl2ssTicksBytes : 0).first<kHl2ssPoseBytes>();
     const DirectXMatrix rig_to_world = DirectXFromBytes(pose_span);
-    // All zeros when the locator failed; valid <=> pose[15] != 0 (ahat.md section 3.3).
+    // All zeros when the locator failed; valid <=> pose[15] != 0 (docs/ahat.md section 3.3).
     if (rig_to_world[15] != 0.0f) {
       frame.world_from_rig = RigidFromDirectX(rig_to_world, path_, cursor);
     }

@@ -162,7 +162,7 @@ TEST(Hl2ssRecordingErrors, CorruptZdepthStreamAtItsFileOffset) {
   writer.Close();
   auto bytes = ReadFileBytes(path);
   const std::uint64_t stream = 8 + 2 + 4 + options.user.size() + 10 + 16 + 12 + 8;
-  ASSERT_EQ(bytes[stream], 0xCA);  // Zdepth magic (ahat.md 4.1)
+  ASSERT_EQ(bytes[stream], 0xCA);  // Zdepth magic (docs/ahat.md 4.1)
   bytes[stream] = 0xCB;
   const Hl2ssRecording recording(bytes, "zdepth.bin");
   ASSERT_EQ(recording.frame_count(), 1u);

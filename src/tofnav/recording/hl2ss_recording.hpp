@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// hl2ss AHAT recordings (`HL2SSV23` .bin files, ahat.md section 3): indexed reader and writer.
+// hl2ss AHAT recordings (`HL2SSV23` .bin files, docs/ahat.md section 3): indexed reader and writer.
 #pragma once
 
 #include <cstddef>
@@ -25,7 +25,7 @@ enum class Hl2ssVideoProfile : std::uint8_t {
   kH265Main = 3,
   kRaw = 255,
 };
-/// Payload variants written by different hl2ss server versions (ahat.md section 3.4).
+/// Payload variants written by different hl2ss server versions (docs/ahat.md section 3.4).
 enum class Hl2ssPayloadLayout : std::uint8_t {
   kCurrent,       // [size_z][size_ab][z][ab][sensor_ticks], server >= v1.0.33
   kSizedNoTicks,  // [size_z][size_ab][z][ab], v1.0.30-32 and older ZDEPTH
@@ -38,7 +38,7 @@ struct Hl2ssEncoderOption {
   bool operator==(const Hl2ssEncoderOption&) const = default;
 };
 
-/// The AHAT stream configuration stored after the file header (ahat.md section 3.2).
+/// The AHAT stream configuration stored after the file header (docs/ahat.md section 3.2).
 struct Hl2ssAhatConfig {
   std::uint8_t mode = 1;  // 0 frames, 1 frames + rig pose
   std::uint8_t divisor = 1;

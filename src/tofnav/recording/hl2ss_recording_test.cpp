@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Golden hl2ss AHAT files assembled byte by byte from ahat.md section 3, read back exactly.
+// Golden hl2ss AHAT files assembled byte by byte from docs/ahat.md section 3, read back exactly.
 #include "tofnav/recording/hl2ss_recording.hpp"
 
 #include <gmock/gmock.h>

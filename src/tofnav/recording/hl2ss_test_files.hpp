@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Test helpers: hl2ss AHAT files assembled byte by byte from ahat.md section 3.
+// Test helpers: hl2ss AHAT files assembled byte by byte from docs/ahat.md section 3.
 #pragma once
 
 #include <gtest/gtest.h>

@@ -80,7 +80,7 @@ TEST(Hl2ssRecordingWriter, BytesMatchHandAssembledFile) {
 }
 
 TEST(Hl2ssRecordingWriter, DefaultBitrateIsTheClientDefault) {
-  // 512 * 512 * 45 * 12 * f, times 16 in SAME mode (ahat.md section 3.2).
+  // 512 * 512 * 45 * 12 * f, times 16 in SAME mode (docs/ahat.md section 3.2).
   EXPECT_EQ(Hl2ssDefaultAhatBitrate(Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kH265Main),
             15'099'494u);
   EXPECT_EQ(Hl2ssDefaultAhatBitrate(Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kH264Main),
@@ -164,7 +164,7 @@ TEST(Hl2ssRecordingWriter, ZdepthRoundTripWithinQuantisation) {
     mismatches += got != ZdepthRoundTripMm(valid) || read.ab.pixels()[i] != frame.ab.pixels()[i];
     if (valid >= 201 && valid <= 749) {
       ++exact_band;
-      mismatches += got != valid;  // ahat.md 4.5: lossless at 201..749 mm
+      mismatches += got != valid;  // docs/ahat.md 4.5: lossless at 201..749 mm
     }
   }
   EXPECT_EQ(mismatches, 0);

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Binary 16-bit PGM (Netpbm P5) decoder and encoder (ahat.md section 7.3).
+// Binary 16-bit PGM (Netpbm P5) decoder and encoder (docs/ahat.md section 7.3).
 #include "tofnav/recording/pgm.hpp"
 
 #include <algorithm>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// StreamRecorder capture folders (ahat.md section 7): reader and streaming writer.
+// StreamRecorder capture folders (docs/ahat.md section 7): reader and streaming writer.
 #include "tofnav/recording/stream_recorder.hpp"
 
 #include <algorithm>
@@ -18,7 +18,7 @@ namespace {
 /// A 512 x 512 16-bit PGM is 524 305 B with the recorder's header; anything much larger is not
 /// an AHAT frame and is refused before allocating.
 constexpr std::uint64_t kMaxPgmEntryBytes = 1 << 20;
-/// FILETIME of the Unix epoch (100 ns ticks since 1601-01-01), ahat.md section 7.6.
+/// FILETIME of the Unix epoch (100 ns ticks since 1601-01-01), docs/ahat.md section 7.6.
 constexpr std::uint64_t kUnixEpochFiletime = 116444736000000000ULL;
 constexpr std::uint64_t kFiletimeTicksPerSecond = 10000000ULL;
 

@@ -89,7 +89,7 @@ double ParseNumber(std::string_view field, std::size_t index, const std::filesys
 }
 
 // 16 numbers, read row-major: the column-vector matrix (the recorder wrote the row-vector
-// DirectX matrix column by column, ahat.md 7.5), translation converted from m to mm.
+// DirectX matrix column by column, docs/ahat.md 7.5), translation converted from m to mm.
 Rigid3d ParseMatrix(std::span<const std::string_view> fields, std::size_t first,
                     const std::filesystem::path& source, const Line& line) {
   Eigen::Matrix4d matrix;

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// StreamRecorder side files: the unit-ray LUT and the transposed text matrices (ahat.md 7.4, 7.5).
+// StreamRecorder side files: unit-ray LUT and transposed text matrices (docs/ahat.md 7.4-7.5).
 #pragma once
 
 #include <Eigen/Core>

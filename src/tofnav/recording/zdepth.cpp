@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Zdepth key frames (ahat.md section 4): zero map, 8x8 block predictors, Pack12, four zstd frames.
+// Zdepth key frames (docs/ahat.md 4): zero map, 8x8 block predictors, Pack12, four zstd frames.
 #include "tofnav/recording/zdepth.hpp"
 
 #include <zstd.h>
@@ -98,7 +98,7 @@ std::vector<std::uint8_t> Inflate(const Context& ctx, ZSTD_DCtx* dctx,
   return raw;
 }
 
-/// Zero map (ahat.md 4.3): bit i = nz(i) XOR nz(i - 1), LSB first. Writes 0/1 placeholders and
+/// Zero map (docs/ahat.md 4.3): bit i = nz(i) XOR nz(i - 1), LSB first. Writes 0/1 placeholders and
 /// returns how many pixels are non-zero.
 std::size_t ExpandZeroMap(std::span<const std::uint8_t> zeroes, std::uint16_t* pixels) {
   unsigned state = 0;
@@ -117,7 +117,7 @@ std::size_t ExpandZeroMap(std::span<const std::uint8_t> zeroes, std::uint16_t* p
   return non_zero;
 }
 
-/// Pack12 (ahat.md 4.2) to residuals, followed by kStreamPadding zeros.
+/// Pack12 (docs/ahat.md 4.2) to residuals, followed by kStreamPadding zeros.
 std::vector<std::int16_t> UnpackResiduals(std::span<const std::uint8_t> packed) {
   const std::size_t count = packed.size() / 3 * 2;
   std::vector<std::int16_t> residuals(count + kStreamPadding, 0);
@@ -140,7 +140,7 @@ struct Cursor {
 
 constexpr std::uint16_t kZeroRow[kZdepthBlockPx] = {};
 
-/// One 8x8 block (ahat.md 4.4). Edge blocks (kEdge) see 0 outside the block and use Larger;
+/// One 8x8 block (docs/ahat.md 4.4). Edge blocks (kEdge) see 0 outside the block and use Larger;
 /// interior blocks see the real, already decoded image. A pixel takes its residual from Edges when
 /// L or U is 0, else from Surfaces. L and L2 stay in registers (no store-to-load round trip). The
 /// store wraps to 16 bits so a corrupt stream cannot overflow later predictions; `bad` flags it.
@@ -198,7 +198,7 @@ struct FrameHeader {
   Section zeroes{"Zeroes"}, blocks{"Blocks"}, edges{"Edges"}, surfaces{"Surfaces"};
 };
 
-/// The 40-byte header (ahat.md 4.1) with every size checked against the image and `bytes`.
+/// The 40-byte header (docs/ahat.md 4.1) with every size checked against the image and `bytes`.
 FrameHeader ReadHeader(const Context& ctx, std::span<const std::uint8_t> bytes) {
   ByteReader reader(bytes, ctx.source, ctx.base_offset);
   reader.Take(kZdepthHeaderBytes, "Zdepth header");
@@ -251,7 +251,7 @@ struct Stream {
   const std::int16_t* end() const { return values.data() + (values.size() - kStreamPadding); }
 };
 
-/// Block walk (ahat.md 4.4) over `image`, which holds the zero-map placeholders.
+/// Block walk (docs/ahat.md 4.4) over `image`, which holds the zero-map placeholders.
 void WalkBlocks(const Context& ctx, const FrameHeader& header,
                 const std::vector<std::uint8_t>& predictors, const Stream& edges,
                 const Stream& surfaces, Image<std::uint16_t>& image) {
@@ -335,7 +335,7 @@ Image<std::uint16_t> DecodeZdepth(std::span<const std::uint8_t> bytes,
   const Stream edges{UnpackResiduals(Inflate(ctx, dctx.get(), bytes, header.edges))};
   const Stream surfaces{UnpackResiduals(Inflate(ctx, dctx.get(), bytes, header.surfaces))};
   WalkBlocks(ctx, header, predictors, edges, surfaces, image);
-  for (std::uint16_t& pixel : image.pixels()) pixel = kDequantised[pixel];  // ahat.md 4.5
+  for (std::uint16_t& pixel : image.pixels()) pixel = kDequantised[pixel];  // docs/ahat.md 4.5
   return image;
 }
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Zdepth key-frame codec (the hl2ss ZDEPTH profile), our own implementation on libzstd from the
-// bitstream description in ahat.md section 4.
+// bitstream description in docs/ahat.md section 4.
 #pragma once
 
 #include <cstdint>
@@ -21,8 +21,8 @@ struct ZdepthEncodeOptions {
 };
 
 /// Encodes a range image [mm] (0 = invalid) as one Zdepth key frame. Lossy as the format is:
-/// d <= 200 mm -> 0, exact 201..749 mm, 2 mm floor steps 750..1499, coarser above (ahat.md 4.5).
-/// Width and height must be multiples of 8 up to 4096 with (W/8 - 1) * (H/8 - 1) >= 2 (the
+/// d <= 200 mm -> 0, exact 201..749 mm, 2 mm floor steps 750..1499, coarser above (docs/ahat.md
+/// 4.5). Width and height must be multiples of 8 up to 4096 with (W/8 - 1) * (H/8 - 1) >= 2 (the
 /// decoder's rule), else PreconditionError.
 std::vector<std::uint8_t> EncodeZdepth(const Image<std::uint16_t>& range_mm,
                                        const ZdepthEncodeOptions& options = {});

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Zdepth key-frame encoder (ahat.md 4.6): the mirror of the decoder's block walk.
+// Zdepth key-frame encoder (docs/ahat.md 4.6): the mirror of the decoder's block walk.
 #include <zstd.h>
 
 #include <limits>
@@ -80,7 +80,7 @@ void EncodeBlock(const std::uint16_t* q, int width, int bx, int by, bool edge_bl
   }
 }
 
-/// Pack12 (ahat.md 4.2): high bytes of all values, then one byte of low nibbles per pair.
+/// Pack12 (docs/ahat.md 4.2): high bytes of all values, then one byte of low nibbles per pair.
 std::vector<std::uint8_t> Pack12(std::vector<std::uint16_t> values) {
   if (values.size() % 2 != 0) values.push_back(0);
   const std::size_t count = values.size();
@@ -110,7 +110,7 @@ std::vector<std::uint8_t> Compress(ZSTD_CCtx* cctx, const std::vector<std::uint8
   return packed;
 }
 
-/// Zero map (ahat.md 4.3): bit i (LSB first) = nz(q_i) XOR nz(q_{i-1}).
+/// Zero map (docs/ahat.md 4.3): bit i (LSB first) = nz(q_i) XOR nz(q_{i-1}).
 std::vector<std::uint8_t> ZeroMap(const std::vector<std::uint16_t>& q) {
   std::vector<std::uint8_t> zeroes(q.size() / 8, 0);
   bool previous = false;
@@ -137,7 +137,7 @@ int ChoosePredictor(const std::uint16_t* q, int width, int bx, int by) {
   return best_id;
 }
 
-/// 40-byte header (ahat.md 4.1, little-endian) and the four sections as zstd frames. Not via
+/// 40-byte header (docs/ahat.md 4.1, little-endian) and the four sections as zstd frames. Not via
 /// ByteWriter: GCC 12 -O3 warns falsely (-Wstringop-overflow) on its 2-byte vector::insert.
 std::vector<std::uint8_t> AssembleFrame(int width, int height,
                                         const std::vector<std::uint8_t> (&sections)[4], int level) {
@@ -180,7 +180,7 @@ std::vector<std::uint8_t> EncodeZdepth(const Image<std::uint16_t>& range_mm,
   for (std::size_t i = 0; i < q.size(); ++i) {
     q[i] = static_cast<std::uint16_t>(ZdepthQuantise(range_mm.pixels()[i]));
   }
-  // Block walk in the decoder's order (ahat.md 4.4), so the residual streams line up.
+  // Block walk in the decoder's order (docs/ahat.md 4.4), so the residual streams line up.
   const int blocks_x = width / kZdepthBlockPx;
   std::vector<std::uint8_t> predictors(ZdepthInteriorBlockCount(width, height), kLarger);
   Streams streams;

@@ -13,13 +13,13 @@ inline constexpr std::uint8_t kZdepthKeyFrameFlag = 1;
 inline constexpr std::size_t kZdepthHeaderBytes = 40;
 inline constexpr int kZdepthBlockPx = 8;
 inline constexpr int kZdepthMaxSidePx = 4096;      // sanity bound on width and height (AHAT: 512)
-inline constexpr int kZdepthFirstInvalidQ = 2040;  // q >= 2040 dequantises to 0 (ahat.md 4.5)
+inline constexpr int kZdepthFirstInvalidQ = 2040;  // q >= 2040 dequantises to 0 (docs/ahat.md 4.5)
 inline constexpr unsigned kZdepthZigZagLimit = 4096;  // Pack12 holds 12 bits
 
-/// Predictor ids of the Blocks section (ahat.md 4.4); 6 (PrevFrame) is invalid in key frames.
+/// Predictor ids of the Blocks section (docs/ahat.md 4.4); 6 (PrevFrame) is invalid in key frames.
 enum ZdepthPredictor : int { kLarger, kUp, kLeft, kUpTrend, kLeftTrend, kAverage, kPrevFrame };
 
-/// Azure Kinect quantisation (ahat.md 4.5); d <= 200 mm is "no data".
+/// Azure Kinect quantisation (docs/ahat.md 4.5); d <= 200 mm is "no data".
 constexpr int ZdepthQuantise(int range_mm) {
   int q = 0;
   if (range_mm <= 200)

@@ -17,7 +17,7 @@
 namespace tofnav {
 namespace {
 
-// Header field offsets (ahat.md 4.1): uncompressed/compressed size of section s at 8 + 8 s (+4).
+// Header offsets (docs/ahat.md 4.1): uncompressed/compressed size of section s at 8 + 8 s (+4).
 constexpr std::size_t kHeaderBytes = 40;
 std::size_t RawSizeAt(int section) { return 8 + 8 * static_cast<std::size_t>(section); }
 std::size_t PackedSizeAt(int section) { return RawSizeAt(section) + 4; }
@@ -101,7 +101,7 @@ std::vector<std::uint8_t> Pack12(std::vector<unsigned> z) {
 }
 
 // 24x16 = 3x2 blocks; interior blocks (1,1) with Average (5) and (2,1) with UpTrend (3).
-// Quantised pixels and, in walk order, the residuals worked out by hand from ahat.md 4.4.
+// Quantised pixels and, in walk order, the residuals worked out by hand from docs/ahat.md 4.4.
 struct HandPixel {
   int x, y, q;
 };
@@ -273,7 +273,7 @@ TEST(Zdepth, PredictorChoiceChangesTheStreamNotTheImage) {
   EXPECT_EQ(DecodeZdepth(Assemble(chosen)), DecodeZdepth(Assemble(larger)));
 }
 
-/// Inverse of the quantiser on bucket floors (ahat.md 4.5), so q survives the encoder exactly.
+/// Inverse of the quantiser on bucket floors (docs/ahat.md 4.5), so q survives the encoder exactly.
 std::uint16_t RangeMmOf(int q) {
   if (q < 550) return static_cast<std::uint16_t>(q + 200);
   if (q < 925) return static_cast<std::uint16_t>(750 + 2 * (q - 550));

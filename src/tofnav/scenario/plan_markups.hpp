@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Planned trajectories as a 3D Slicer markups file (.mrk.json, slicer_igtl.md section 5.4).
+// Planned trajectories as a 3D Slicer markups file (.mrk.json, docs/openigtlink.md section 5.4).
 #pragma once
 
 #include <filesystem>

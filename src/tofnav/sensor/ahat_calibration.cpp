@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Synthetic AHAT calibration (ahat.md section 11) and the measured device extrinsics (section 10).
+// Synthetic AHAT calibration (docs/ahat.md 11) and the measured device extrinsics (section 10).
 #include "tofnav/sensor/ahat_calibration.hpp"
 
 #include <Eigen/SVD>
@@ -18,7 +18,7 @@ namespace {
 constexpr double kPinholeCentrePx = 255.5;  // centre of a 512-pixel pinhole, integer-centred
 constexpr double kMmPerMetre = 1000.0;
 
-/// Radial profile theta(r) with the fold of ahat.md section 11 beyond fold_radius_px.
+/// Radial profile theta(r) with the fold of docs/ahat.md section 11 beyond fold_radius_px.
 class RadialProfile {
  public:
   explicit RadialProfile(const SyntheticAhatOptions& options)
@@ -113,7 +113,7 @@ void SyntheticAhatOptions::Check() const {
 }
 
 Rigid3d TypicalRigFromAhat() {
-  // ahat.md section 10: E (rig -> camera, row vectors: p_cam = p_rig * R + t), rounded.
+  // docs/ahat.md section 10: E (rig -> camera, row vectors: p_cam = p_rig * R + t), rounded.
   Eigen::Matrix3d rotation_rows;
   rotation_rows << 0.0214, 0.9580, 0.2860,  //
       -0.9995, 0.0270, -0.0156,             //

@@ -10,9 +10,9 @@
 
 namespace tofnav {
 
-/// Our convention for the API coordinate of a pixel centre: API = array index + 0.5 (ahat.md
-/// section 5.3, c). The synthetic generator writes tables with it; AhatCameraOptions defaults to
-/// it.
+/// Our convention for the API coordinate of a pixel centre: API = array index + 0.5 (the c of
+/// docs/ahat.md 5.3). The synthetic generator writes tables with it; AhatCameraOptions defaults
+/// to it.
 constexpr double kApiPixelCentreOffsetPx = 0.5;
 
 /// Device calibration contents, in our units and conventions (io/ converts on read).
@@ -21,7 +21,7 @@ struct AhatCalibration {
   /// row); NaN where the source marks the entry invalid (StreamRecorder z == 0).
   Image<Eigen::Vector2f> uv2xy;
   /// s: where the table was sampled relative to the array index: 0.5 for hl2ss <= v1.0.35 and
-  /// StreamRecorder, 0 for hl2ss >= v1.0.36 (ahat.md section 5.3).
+  /// StreamRecorder, 0 for hl2ss >= v1.0.36 (docs/ahat.md section 5.3).
   double sample_offset_px = 0.5;
   /// Inverse of the stored rig -> camera extrinsics, translation in mm.
   Rigid3d rig_from_ahat;
@@ -32,7 +32,7 @@ struct AhatCalibration {
   double alias_mm = 1055.0;  // phase-wrap distance, as stored
 };
 
-/// Parameters of a synthetic AHAT calibration (ahat.md section 11).
+/// Parameters of a synthetic AHAT calibration (docs/ahat.md section 11).
 struct SyntheticAhatOptions {
   double focal_px = 254.0;  // equidistant r = f * theta
   /// Principal point in array-index coordinates (pixel centres at integers).
@@ -50,7 +50,7 @@ struct SyntheticAhatOptions {
   void Check() const;     // throws PreconditionError naming the bad field
 };
 
-/// The measured device extrinsics of ahat.md section 10, rounded, as rig_from_ahat [mm].
+/// The measured device extrinsics of docs/ahat.md section 10, rounded, as rig_from_ahat [mm].
 Rigid3d TypicalRigFromAhat();
 
 /// Builds a 512 x 512 calibration from the model: unit-plane table (entries with theta outside

@@ -22,7 +22,7 @@ constexpr double kExtrinsicsTolMm = 0.5;   // brief: rounded section 10 values
 constexpr double kAxisTol = 2e-3;          // rounded rotation, 3 decimals quoted
 constexpr double kOrthonormalTol = 1e-12;  // SVD projection
 
-/// Independent evaluation of ahat.md section 11 for entry (i, j) (equidistant with fold).
+/// Independent evaluation of docs/ahat.md section 11 for entry (i, j) (equidistant with fold).
 Eigen::Vector2d ExpectedEntry(int i, int j, const SyntheticAhatOptions& options) {
   const Eigen::Vector2d offset =
       Eigen::Vector2d(i + options.sample_offset_px - 0.5, j + options.sample_offset_px - 0.5) -
@@ -129,7 +129,7 @@ TEST(SyntheticAhatCalibration, OptionsCheckNamesTheField) {
 
 TEST(TypicalRigFromAhat, MatchesTheMeasuredDevice) {
   const Rigid3d rig_from_ahat = TypicalRigFromAhat();
-  // ahat.md section 10: AHAT origin (0.0212, -0.0592, 0.0118) m in the rig frame.
+  // docs/ahat.md section 10: AHAT origin (0.0212, -0.0592, 0.0118) m in the rig frame.
   EXPECT_LT((rig_from_ahat.translation - Eigen::Vector3d(21.2, -59.2, 11.8)).norm(),
             kExtrinsicsTolMm);
   const Eigen::Matrix3d rotation = rig_from_ahat.RotationMatrix();

@@ -68,7 +68,7 @@ AhatCamera::AhatCamera(const AhatCalibration& calibration, const AhatCameraOptio
   Require(calibration.sample_offset_px >= 0.0 && calibration.sample_offset_px < 1.0,
           "AhatCalibration::sample_offset_px must be in [0, 1)");
   const UnitPlaneTable table = ToUnitPlaneTable(calibration.uv2xy);
-  // ahat.md section 5.3: our pixel centre (u, v) is the table position (u + c - s, v + c - s).
+  // docs/ahat.md section 5.3: our pixel centre (u, v) is the table position (u + c - s, v + c - s).
   table_shift_px_ = options.pixel_centre_offset_px - calibration.sample_offset_px;
   const std::optional<Eigen::Vector2d> table_principal_point = FindTablePrincipalPoint(table);
   Require(table_principal_point.has_value(),

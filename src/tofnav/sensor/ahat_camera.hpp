@@ -14,7 +14,7 @@
 namespace tofnav {
 
 struct AhatCameraOptions {
-  /// c: where our pixel centre (integer index) lies in API coordinates (ahat.md section 5.3).
+  /// c: where our pixel centre (integer index) lies in API coordinates (docs/ahat.md section 5.3).
   double pixel_centre_offset_px = 0.5;
   /// Rays farther than this from the principal point are invalid [px]; 0 keeps every entry that
   /// passes the monotone-region test.
@@ -28,7 +28,7 @@ struct AhatCameraOptions {
 /// Frame `ahat`: origin at the optical centre, x right, y down, z forward.
 ///
 /// Construction: the principal point is found in the table (where x = y = 0); the table is
-/// masked by the monotone rule of ahat.md section 10; it is resampled at our pixel centres
+/// masked by the monotone rule of docs/ahat.md section 10; it is resampled at our pixel centres
 /// (u + c - s, v + c - s) (a direct lookup when c = s, else cubic where a valid 4 x 4 stencil
 /// exists, bilinear otherwise); entries where a cell folds over are dropped so that projection is
 /// unique; then unit rays and a coarse inverse table are precomputed (~13 ms in Release).

@@ -33,7 +33,7 @@ constexpr double kMinEquidistantFovRad = 115.0 * std::numbers::pi / 180.0;  // 5
 
 SyntheticAhatOptions Realistic(double sample_offset_px) {
   SyntheticAhatOptions options;
-  options.focal_px = 255.9;  // ahat.md section 10 fit: theta = r / 255.9 + 1.71e-9 r^3
+  options.focal_px = 255.9;  // docs/ahat.md section 10 fit: theta = r / 255.9 + 1.71e-9 r^3
   options.cubic_rad_per_px3 = 1.71e-9;
   options.aspect_y = 0.9986;
   options.sample_offset_px = sample_offset_px;
@@ -103,7 +103,7 @@ TEST(AhatCamera, RoundTripEquidistant) { ExpectRoundTrip(DefaultCamera()); }
 
 TEST(AhatCamera, RoundTripRealisticSampledAtIntegers) { ExpectRoundTrip(RealisticCamera(0.0)); }
 
-/// theta(r) of the synthetic equidistant model, fold included (ahat.md section 11).
+/// theta(r) of the synthetic equidistant model, fold included (docs/ahat.md section 11).
 double ModelThetaRad(double r_px, const SyntheticAhatOptions& options) {
   return r_px <= options.fold_radius_px ? r_px / options.focal_px
                                         : (2.0 * options.fold_radius_px - r_px) / options.focal_px;
@@ -144,7 +144,7 @@ TEST(AhatCamera, SampleOffsetOfTheFileIsHonoured) {
   const AhatCamera& half_camera = RealisticCamera(0.5);
   const AhatCamera& integer_camera = RealisticCamera(0.0);
   AhatCalibration wrong = RealisticCalibration(0.0);
-  wrong.sample_offset_px = 0.5;  // the trap of ahat.md section 5.3
+  wrong.sample_offset_px = 0.5;  // the trap of docs/ahat.md section 5.3
   const AhatCamera wrong_camera(wrong);
   double worst_same_mm = 0.0;
   double wrong_min_mm = std::numeric_limits<double>::infinity();
@@ -201,7 +201,7 @@ TEST(AhatCamera, FieldOfViewAcrossTheCentreRow) {
     const double fov_rad = std::acos(
         camera.PixelRay(left, row).cast<double>().dot(camera.PixelRay(right, row).cast<double>()));
     if (realistic) {
-      EXPECT_NEAR(fov_rad, kMeasuredFovRad, kFovTolRad);  // ahat.md section 10: 118.3 degrees
+      EXPECT_NEAR(fov_rad, kMeasuredFovRad, kFovTolRad);  // docs/ahat.md section 10: 118.3 degrees
     } else {
       const double cx = options.principal_point_px.x();
       EXPECT_NEAR(fov_rad, (right - cx) / options.focal_px + (cx - left) / options.focal_px,

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Resampling of a unit-plane table at a constant sub-entry shift (the c - s of ahat.md 5.3).
+// Resampling of a unit-plane table at a constant sub-entry shift (the c - s of docs/ahat.md 5.3).
 #include <array>
 #include <cmath>
 #include <limits>

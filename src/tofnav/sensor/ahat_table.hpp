@@ -25,9 +25,9 @@ using Mask = Image<std::uint8_t>;
 /// The calibration's table in the plain layout.
 UnitPlaneTable ToUnitPlaneTable(const Image<Eigen::Vector2f>& uv2xy);
 
-/// ahat.md section 10 rule: an entry is valid when finite, reached by walking its row (x) and its
-/// column (y) outward from the principal point while the coordinate keeps moving away, and not an
-/// exact (0, 0) more than a few px from the principal point (zero-filled API failure).
+/// docs/ahat.md section 10 rule: an entry is valid when finite, reached by walking its row (x) and
+/// its column (y) outward from the principal point while the coordinate keeps moving away, and not
+/// an exact (0, 0) more than a few px from the principal point (zero-filled API failure).
 Mask MonotoneTableMask(const UnitPlaneTable& table, const Eigen::Vector2d& principal_point);
 
 /// Drops the entries at which a cell of four valid entries folds over (its bilinear Jacobian

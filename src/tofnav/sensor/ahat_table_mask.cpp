@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Validity masks of a unit-plane table: the monotone region (ahat.md section 10), folds, cells.
+// Validity masks of a unit-plane table: the monotone region (docs/ahat.md 10), folds, cells.
 #include <algorithm>
 #include <cmath>
 

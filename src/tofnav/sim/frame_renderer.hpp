@@ -24,7 +24,7 @@ struct PixelRays {
 
 /// Images the passes of one frame share; reused across frames.
 struct FrameBuffers {
-  Image<std::complex<double>> phasor;  // Z of tof_physics.md section 2 (AB counts)
+  Image<std::complex<double>> phasor;  // Z of docs/tof_physics.md section 2 (AB counts)
   Image<std::complex<double>> scratch_wide;
   Image<std::complex<double>> scratch_narrow;
   Image<double> ab_noise;       // unit normal draws

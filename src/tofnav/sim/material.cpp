@@ -16,7 +16,7 @@ constexpr double kCurveStartMm = 300.0;  // f_rf is specified over 300 .. 700 mm
 constexpr double kCurveEndMm = 700.0;
 constexpr double kCurveSpanMm = 4.0;  // the tabulated curves span 0 .. 4 mm
 
-// The tabulated 4 mm curves of tof_physics.md section 5.3, valid inside [300, 700] mm.
+// The tabulated 4 mm curves of docs/tof_physics.md section 5.3, valid inside [300, 700] mm.
 double UnitCurveMm(RetroCurve curve, double d_mm) {
   switch (curve) {
     case RetroCurve::kNone:
@@ -78,7 +78,7 @@ void Material::Check() const {
 }
 
 // Physical presets: bias ~ a c tau / 2 (7.49 mm per 50 ps at a = 1), a grows with theta, and the
-// intensity term lowers the bias at close range. Model presets: tof_physics.md section 5.2.
+// intensity term lowers the bias at close range. Model presets: docs/tof_physics.md section 5.2.
 Material SkinMaterial() {
   return WithModel(Subsurface("skin", 0.55, 0.9, 52.0, 0.3, 0.5), 2.8, 0.010, 4.0);
 }

@@ -6,7 +6,7 @@
 
 namespace tofnav::sim {
 
-/// Shape of the retro-reflector range bias f_rf(d) (tof_physics.md section 5.3). Each curve
+/// Shape of the retro-reflector range bias f_rf(d) (docs/tof_physics.md section 5.3). Each curve
 /// spans 0 .. amplitude over 300 .. 700 mm and is extended linearly outside.
 enum class RetroCurve { kNone, kLinear, kQuadratic, kSigmoid, kWavy };
 
@@ -15,8 +15,8 @@ struct Material {
   std::string name;
   double albedo = 0.5;  // rho, dimensionless Lambertian reflectance (0 .. 1)
 
-  // Physical mode (tof_physics.md section 5.1): the return is an instantaneous fraction plus an
-  // exponentially delayed one, H = (1 - a) + a / (1 + i w tau), a(theta) = a0 (1 + k theta).
+  // Physical mode (docs/tof_physics.md section 5.1): the return is an instantaneous fraction plus
+  // an exponentially delayed one, H = (1 - a) + a / (1 + i w tau), a(theta) = a0 (1 + k theta).
   double subsurface_fraction = 0.0;            // a0, dimensionless (0 .. 1)
   double subsurface_delay_ps = 0.0;            // tau [ps]
   double subsurface_angle_gain_per_rad = 0.0;  // k_theta [1/rad]; a(theta) is clamped to [0, 1]
@@ -30,7 +30,7 @@ struct Material {
   double model_c2 = 0.0;  // dimensionless: mm of bias per mm of range
   double model_c3_mm_per_rad = 0.0;
 
-  // Retro-reflective sheeting (tof_physics.md section 3):
+  // Retro-reflective sheeting (docs/tof_physics.md section 3):
   // AB = K pi R_A0 exp(-alpha / alpha0) cos(beta) V / d^2 for entrance angles beta < cut-off.
   bool retro_reflective = false;
   double retro_coefficient = 300.0;                 // R_A0 [cd lx^-1 m^-2]
@@ -45,7 +45,7 @@ struct Material {
 
 /// Skin: rho 0.55, about +7.5 mm subsurface bias (paper: 7.58 +- 1.49 mm).
 Material SkinMaterial();
-/// 3D-printing materials of the paper's phantoms (tof_physics.md section 5.2 magnitudes).
+/// 3D-printing materials of the paper's phantoms (docs/tof_physics.md section 5.2 magnitudes).
 Material NylonMaterial();
 Material PhotopolymerMaterial();
 Material PlaMaterial();

@@ -53,7 +53,7 @@ TEST(Material, PresetsAreValidAndDistinct) {
   EXPECT_TRUE(RetroReflectiveMaterial().retro_reflective);
   EXPECT_FALSE(SkinMaterial().retro_reflective);
   EXPECT_EQ(RetroReflectiveMaterial(RetroCurve::kWavy).retro_curve, RetroCurve::kWavy);
-  EXPECT_DOUBLE_EQ(SkinMaterial().model_c1_mm, 2.8);  // tof_physics.md section 5.2
+  EXPECT_DOUBLE_EQ(SkinMaterial().model_c1_mm, 2.8);  // docs/tof_physics.md section 5.2
   EXPECT_DOUBLE_EQ(PhotopolymerMaterial().model_c3_mm_per_rad, 5.5);
 }
 

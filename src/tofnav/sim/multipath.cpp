@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// One-bounce diffuse multipath in screen space (tof_physics.md section 6.2).
+// One-bounce diffuse multipath in screen space (docs/tof_physics.md section 6.2).
 #include "tofnav/sim/multipath.hpp"
 
 #include <cmath>

@@ -73,7 +73,7 @@ double MeanBiasMm(const RenderResult& on, const RenderResult& off, int side) {
 }
 
 TEST(Multipath, AConcaveCornerReadsFartherSymmetricallyAndMoreWithGain) {
-  constexpr double kMinBiasMm = 1.0;   // mm-level in concavities (tof_physics.md 6.2)
+  constexpr double kMinBiasMm = 1.0;   // mm-level in concavities (docs/tof_physics.md 6.2)
   constexpr double kSymmetryMm = 0.3;  // mirror-symmetric scene; the grids are not exactly
   const Scene scene = CornerScene(true);
   const RenderResult off = Render(scene, IdealWithMultipath(0.0));

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// AHAT frame rendering, the per-frame pipeline of tof_physics.md section 2.
+// AHAT frame rendering, the per-frame pipeline of docs/tof_physics.md section 2.
 #include "tofnav/sim/render.hpp"
 
 #include <algorithm>

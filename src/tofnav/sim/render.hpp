@@ -20,8 +20,8 @@
 
 namespace tofnav::sim {
 
-/// Lens scattering: the complex range image is convolved with
-/// (1 - wide - narrow) delta + wide G(wide_sigma) + narrow G(narrow_sigma) (tof_physics.md 6.3).
+/// Lens scattering (docs/tof_physics.md 6.3): the complex range image is convolved with
+/// (1 - wide - narrow) delta + wide G(wide_sigma) + narrow G(narrow_sigma).
 struct ScatterOptions {
   double wide_fraction = 1e-3;  // epsilon_1, dimensionless
   double wide_sigma_px = 30.0;

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Physics acceptance of the simulator: noise law, skin and model bias, marker and skin AB, wrap,
-// flying pixels and marker blob size (tof_physics.md sections 3-8).
+// flying pixels and marker blob size (docs/tof_physics.md sections 3-8).
 #include <gtest/gtest.h>
 
 #include <cmath>

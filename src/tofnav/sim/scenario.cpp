@@ -31,7 +31,7 @@ int FindByName(const Items& items, const std::string& wanted, Name name) {
 CameraSetup::CameraSetup() {
   calibration.rig_from_ahat = TypicalRigFromAhat();
   // hl2ss >= v1.0.36 tables (s = 0): with the synthetic pinhole's fx == fy, readers of the
-  // calibration folder recover s by the auto rule of ahat.md 5.3.
+  // calibration folder recover s by the auto rule of docs/ahat.md 5.3.
   calibration.sample_offset_px = 0.0;
 }
 

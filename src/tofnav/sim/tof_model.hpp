@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The simulator's forward ToF model per hit and per pixel (tof_physics.md sections 2-7).
+// The simulator's forward ToF model per hit and per pixel (docs/tof_physics.md sections 2-7).
 #pragma once
 
 #include <complex>
@@ -15,7 +15,7 @@ enum class BiasMode {
   kModel,     // the paper's C1 + C2 d + C3 theta per material (true d, theta) + f_rf on retro
 };
 
-/// Radiometry of the active illumination (tof_physics.md section 3).
+/// Radiometry of the active illumination (docs/tof_physics.md section 3).
 struct RadiometryOptions {
   double ab_scale = 65.0;           // K [counts m^2]: AB = K rho cos(theta) V / d^2, d in metres
   double falloff_power = 2.0;       // V = cos^p(off-axis angle), dimensionless
@@ -38,7 +38,7 @@ struct SensorOptions {
   void Check() const;
 };
 
-/// Random noise (tof_physics.md section 4).
+/// Random noise (docs/tof_physics.md section 4).
 struct NoiseOptions {
   double ab_noise_scale = 1.0;      // sigma_AB = scale * sqrt(AB), dimensionless
   double depth_sigma_ref_mm = 1.0;  // sigma_d at AB = depth_sigma_ref_ab
@@ -48,7 +48,7 @@ struct NoiseOptions {
   void Check() const;
 };
 
-/// Noise-free AB a hit would give if it filled a whole pixel (tof_physics.md section 3).
+/// Noise-free AB a hit would give if it filled a whole pixel (docs/tof_physics.md section 3).
 /// @param cos_incidence  -n . ray with the outward normal n: negative when the back is seen
 /// @param cos_off_axis   z of the unit ray in `ahat`
 double HitAmplitude(const Material& material, const RadiometryOptions& options, double range_mm,

@@ -11,7 +11,7 @@
 namespace tofnav::sim {
 namespace {
 
-constexpr double kAbTableTol = 1.0;  // tof_physics.md section 3 tabulates rounded counts
+constexpr double kAbTableTol = 1.0;  // docs/tof_physics.md section 3 tabulates rounded counts
 
 TEST(HitAmplitude, MatchesTheRadiometryTable) {
   const RadiometryOptions radiometry;
@@ -53,7 +53,7 @@ TEST(Subsurface, FiftyPicosecondsGiveSevenAndAHalfMillimetres) {
   m.subsurface_fraction = 1.0;
   m.subsurface_delay_ps = 50.0;
   const SensorOptions sensor;
-  EXPECT_NEAR(SubsurfaceBiasMm(m, 0.0, sensor), 7.49, kBiasTolMm);  // tof_physics.md 5.1
+  EXPECT_NEAR(SubsurfaceBiasMm(m, 0.0, sensor), 7.49, kBiasTolMm);  // docs/tof_physics.md 5.1
   const std::complex<double> h = SubsurfaceFactor(m, 0.0, sensor.ModulationHz());
   EXPECT_GT(std::arg(h), 0.0);             // delayed light makes the surface appear farther
   EXPECT_NEAR(std::abs(h), 0.999, 0.001);  // negligible amplitude loss

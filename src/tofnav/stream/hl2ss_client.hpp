@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Live hl2ss AHAT client (port 3804, ahat.md section 6): configuration, packet framing, Mode 2.
+// Live hl2ss AHAT client (port 3804, docs/ahat.md 6): configuration, packet framing, Mode 2.
 #pragma once
 
 #include <cstdint>
@@ -19,7 +19,7 @@ namespace tofnav {
 /// Largest payload a client accepts: a SAME+RAW payload is 2 MiB + 16 bytes.
 constexpr std::uint32_t kHl2ssMaxPayloadBytes = 16u << 20;
 
-/// The configuration bytes a client sends (10 + 16 n, ahat.md 3.2), also stored in recordings.
+/// The configuration bytes a client sends (10 + 16 n, docs/ahat.md 3.2), also stored in recordings.
 std::vector<std::uint8_t> EncodeHl2ssAhatConfig(const Hl2ssAhatConfig& config);
 /// Decodes them (mode 0 or 1, known profiles); IoError naming `source` and the field offset.
 Hl2ssAhatConfig DecodeHl2ssAhatConfig(std::span<const std::uint8_t> bytes,

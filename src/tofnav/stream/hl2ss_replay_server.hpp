@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Loopback hl2ss AHAT server replaying a recording with the live protocol (ahat.md section 6).
+// Loopback hl2ss AHAT server replaying a recording with the live protocol (docs/ahat.md section 6).
 #pragma once
 
 #include <atomic>

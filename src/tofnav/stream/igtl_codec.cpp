@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// OpenIGTLink codec: big-endian header and bodies, CRC-64/ECMA-182 (slicer_igtl.md 2.1-2.3).
+// OpenIGTLink codec: big-endian header and bodies, CRC-64/ECMA-182 (docs/openigtlink.md 2.1-2.3).
 #include "tofnav/stream/igtl_codec.hpp"
 
 #include <cmath>

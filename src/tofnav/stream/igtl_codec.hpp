@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// OpenIGTLink wire codec (slicer_igtl.md section 2): header, CRC-64, TRANSFORM/POINT/STRING/
+// OpenIGTLink wire codec (docs/openigtlink.md section 2): header, CRC-64, TRANSFORM/POINT/STRING/
 // POLYDATA bodies. Pure functions over bytes, byte-identical to libopenigtlink 1.11 Pack().
 #pragma once
 

@@ -31,11 +31,11 @@ std::span<const std::uint8_t> AsBytes(const std::string& s) {
 }
 
 TEST(IgtlCodec, Crc64CheckValue) {
-  EXPECT_EQ(IgtlCrc64(AsBytes("123456789")), 0x6C40DF5F0B497347ULL);  // slicer_igtl.md 2.1
+  EXPECT_EQ(IgtlCrc64(AsBytes("123456789")), 0x6C40DF5F0B497347ULL);  // docs/openigtlink.md 2.1
   EXPECT_EQ(IgtlTimestamp(1700000000.5), 0x6553F10080000000ULL);
 }
 
-// slicer_igtl.md 2.2: the 106 bytes 1.11's TransformMessage::Pack() writes.
+// docs/openigtlink.md 2.2: the 106 bytes 1.11's TransformMessage::Pack() writes.
 TEST(IgtlCodec, TransformIsByteExactToTheReferenceDump) {
   const Bytes expected = {0x00, 0x01, 0x54, 0x52, 0x41, 0x4e, 0x53, 0x46, 0x4f, 0x52, 0x4d, 0x00,
                           0x00, 0x00, 0x54, 0x6f, 0x6f, 0x6c, 0x54, 0x6f, 0x52, 0x65, 0x66, 0x65,

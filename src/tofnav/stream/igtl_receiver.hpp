@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Incremental OpenIGTLink receiver: our own 58-byte header parse, CRC check, header-v2 slicing
-// (slicer_igtl.md section 3), so what 3D Slicer sends never desynchronises the stream.
+// (docs/openigtlink.md section 3), so what 3D Slicer sends never desynchronises the stream.
 #pragma once
 
 #include <cstdint>

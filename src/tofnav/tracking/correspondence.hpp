@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Candidate tool-to-scene marker correspondences by pairwise distances (tracking.md 4.2, 6.3).
+// Candidate tool-to-scene marker correspondences by pairwise distances (docs/tracking.md 7.2, 9.3).
 #pragma once
 
 #include <Eigen/Core>

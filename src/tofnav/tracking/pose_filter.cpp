@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Constant-velocity pose Kalman filter with error-state orientation (tracking.md 6.5).
+// Constant-velocity pose Kalman filter with error-state orientation (docs/tracking.md 9.5).
 #include "tofnav/tracking/pose_filter.hpp"
 
 #include <cmath>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// One constant-velocity pose filter per tool, on real timestamps, with reset and gating (6.5).
+// One constant-velocity pose filter per tool: real time steps, reset, gate (docs/tracking.md 9.5).
 #pragma once
 
 #include <optional>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Refinement of a matched tool's Kabsch pose on marker rays and weighted ranges (tracking.md 6.4).
+// Refining a matched tool's Kabsch pose on marker rays and weighted ranges (docs/tracking.md 9.4).
 #pragma once
 
 #include <optional>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// DefineTool: distance-matched frames averaged by generalised Procrustes (tracking.md section 7).
+// DefineTool: distance-matched frames averaged by generalised Procrustes (docs/tracking.md 10).
 #include "tofnav/tracking/tool_definition.hpp"
 
 #include <Eigen/SVD>

@@ -38,8 +38,8 @@ struct ToolDefinitionResult {
   std::vector<std::optional<Rigid3d>> ahat_from_tool;  // per input frame, when used
 };
 
-/// Builds a tool from per-frame detections (tracking.md section 7, ours): the reference frame is
-/// the one with the modal marker count whose sorted distances are closest to the median; every
+/// Builds a tool from per-frame detections (docs/tracking.md section 10, ours): the reference frame
+/// is the one with the modal marker count whose sorted distances are closest to the median; every
 /// frame is matched to the model by inter-marker distances (so marker order never depends on
 /// position, flickering markers and spurious blobs are tolerated, the tool may move); then
 /// generalised Procrustes: Kabsch each frame onto the model, average with outlier rejection,

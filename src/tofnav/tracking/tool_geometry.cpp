@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Tool validation and the symmetry / confusion report (tracking.md 6.7).
+// Tool validation and the symmetry / confusion report (docs/tracking.md 9.7).
 #include "tofnav/tracking/tool_geometry.hpp"
 
 #include <Eigen/SVD>

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// A rigid marker tool (tracking.md section 5) and its distinctiveness report (section 6.7).
+// A rigid marker tool (docs/tracking.md section 2) and its distinctiveness report (section 9.7).
 #pragma once
 
 #include <Eigen/Core>
@@ -35,7 +35,7 @@ struct ToolGeometry {
   void Check() const;
 };
 
-/// How distinct a tool is, from itself under relabelling and from other tools (tracking.md 6.7).
+/// How distinct a tool is from itself under relabelling and from others (docs/tracking.md 9.7).
 struct ToolGeometryReport {
   std::vector<double> distances_mm;  // |m_i - m_j| for i < j, in order (0,1), (0,2), ..
   double min_distance_mm = 0.0;

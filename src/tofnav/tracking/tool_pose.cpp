@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Multi-tool arbitration with a temporal prior and ambiguity detection (tracking.md 4.3, 6.4, 6.7).
+// Multi-tool arbitration, temporal prior and ambiguity detection (docs/tracking.md 7.3, 9.4, 9.7).
 #include "tofnav/tracking/tool_pose.hpp"
 
 #include <algorithm>
@@ -116,7 +116,7 @@ class Arbiter {
     return searches_[s.tool].candidates[s.candidate];
   }
 
-  // Ranking of tracking.md 6.4: FRE + occlusion penalty + capped temporal prior.
+  // Ranking of docs/tracking.md 9.4: FRE + occlusion penalty + capped temporal prior.
   double Score(const ToolGeometry& tool, const ToolCandidate& c,
                const std::optional<Rigid3d>& prior) const {
     const int unseen = static_cast<int>(tool.markers_in_tool.size()) - c.visible;

@@ -17,8 +17,8 @@
 
 namespace tofnav {
 
-/// Normal per-frame outcomes for one tool (STYLE P7). Only kOk and kPartiallyOccluded carry a
-/// pose, and that pose is always measured in this frame.
+/// Normal per-frame outcomes for one tool (docs/style.md section 3). Only kOk and
+/// kPartiallyOccluded carry a pose, and that pose is always measured in this frame.
 enum class ToolStatus {
   kOk,                 // every marker matched
   kPartiallyOccluded,  // matched with min_visible or more, but not all, markers

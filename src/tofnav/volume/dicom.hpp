@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // DICOM image series (one file per slice) through GDCM, into a CtVolume in LPS: slices sorted by
-// position along the normal, spacing from the positions, per-slice rescale (slicer_igtl.md 5.2).
+// position along the normal, spacing from positions, per-slice rescale (docs/openigtlink.md 5.2).
 #pragma once
 
 #include <filesystem>

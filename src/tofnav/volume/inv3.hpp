@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // InVesalius 3 projects (.inv3): a gzip'd tar holding main.plist (Apple XML plist) and the CT as
-// matrix.dat (int16 little-endian, shape (z, y, x)); see slicer_igtl.md section 8.1.
+// matrix.dat (int16 little-endian, shape (z, y, x)); see docs/openigtlink.md section 8.1.
 #pragma once
 
 #include <cstdint>

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // NIfTI-1 single-file volumes (.nii, .nii.gz) per nifti1.h: sform, else qform, else pixdim
-// (slicer_igtl.md 5.2), RAS converted to LPS; scl_slope/scl_inter applied.
+// (docs/openigtlink.md 5.2), RAS converted to LPS; scl_slope/scl_inter applied.
 #pragma once
 
 #include <cstdint>

@@ -25,7 +25,7 @@ namespace {
 // expected / kMaxDeflateRatio cannot hold the data (checked before inflating).
 constexpr std::uint64_t kMaxDeflateRatio = 1032;
 
-// image_from_ijk from space directions, else spacings, else unit steps (slicer_igtl.md 5.2).
+// image_from_ijk from space directions, else spacings, else unit steps (docs/openigtlink.md 5.2).
 void SetGeometry(const NrrdHeader& h, const std::filesystem::path& path, CtVolume& volume) {
   const auto fail = [&](const std::string& message) { throw IoError(path, h.end_offset, message); };
   const std::size_t first = h.dimension == 4 ? 1 : 0;  // leading non-spatial axis (4-D)

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // One entry point for CT/MR volumes: DICOM folder, NRRD, NIfTI-1 or InVesalius .inv3 into a
-// CtVolume in LPS (slicer_igtl.md section 5); writers for .nrrd, .nii and .nii.gz.
+// CtVolume in LPS (docs/openigtlink.md section 5); writers for .nrrd, .nii and .nii.gz.
 #pragma once
 
 #include <filesystem>
