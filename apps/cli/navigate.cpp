@@ -48,7 +48,7 @@ Rigid3d ReadToolFromImage(const std::filesystem::path& path) {
 namespace {
 
 // What navigation left out, and why: reference poses that jumped in the world, and per tool the
-// marker observations by how they entered the pose (docs/navigation.md section 1).
+// marker observations by how they entered the pose (docs/navigation.md section 1.1).
 nlohmann::ordered_json DroppedJson(const NavigationSessionStats& stats) {
   nlohmann::ordered_json j{{"reference_pose_jumps", stats.reference_pose_jumps}};
   const auto uses = [](const std::map<MarkerUse, std::int64_t>& counts) {
