@@ -45,13 +45,13 @@ int RunEvaluateDepth(int argc, char** argv) {
   for (const ObjectDepthError& o : evaluation.objects) {
     Json row{{"object", o.name},
              {"role", o.role},
-             {"pixels", o.before.pixels},
+             {"pixels", o.before_mm.count},
              {"head_region_percent", o.head_region_percent},
-             {"before_median_mm", o.before.median_mm},
-             {"before_iqr_mm", o.before.iqr_mm()}};
-    if (o.after) {
-      row["after_median_mm"] = o.after->median_mm;
-      row["after_iqr_mm"] = o.after->iqr_mm();
+             {"before_median_mm", o.before_mm.median},
+             {"before_iqr_mm", o.before_mm.iqr()}};
+    if (o.after_mm) {
+      row["after_median_mm"] = o.after_mm->median;
+      row["after_iqr_mm"] = o.after_mm->iqr();
       row["reduction_percent"] = o.reduction_percent;
     }
     rows.push_back(row);

@@ -16,12 +16,9 @@ namespace {
 
 using OrderedJson = nlohmann::ordered_json;
 
-OrderedJson StatsJson(const ErrorStats& s) {
-  return {{"count", s.count},
-          {"median", s.median_mm},
-          {"iqr", s.iqr_mm},
-          {"rms", s.rms_mm},
-          {"p95", s.p95_mm}};
+OrderedJson StatsJson(const Summary& s) {
+  return {
+      {"count", s.count}, {"median", s.median}, {"iqr", s.iqr()}, {"rms", s.rms}, {"p95", s.p95}};
 }
 
 int RunEvaluateGuidance(int argc, char** argv) {
@@ -43,9 +40,9 @@ int RunEvaluateGuidance(int argc, char** argv) {
   if (placed.empty()) throw std::runtime_error(nav_path.string() + ": no frame placed the plan");
   const std::vector<Trajectory> plan = ReadTrajectories(plan_path);
   const GuidanceEvaluation g = EvaluateGuidanceAgainstTruth(placed, truth_dir / "truth.json", plan);
-  const ErrorStats& entry = g.entry_mm;
-  const ErrorStats& world = g.entry_world_mm;
-  const ErrorStats& angle = g.direction_deg;
+  const Summary& entry = g.entry_mm;
+  const Summary& world = g.entry_world_mm;
+  const Summary& angle = g.direction_deg;
   const std::size_t unmatched = g.unmatched;
   if (json) {
     OrderedJson out{{"frames", g.frames},
@@ -67,14 +64,14 @@ int RunEvaluateGuidance(int argc, char** argv) {
             << " trajectories\n"
             << "trajectory        entry median / p95 [mm]   direction median / p95 [deg]\n";
   for (const TrajectoryGuidanceError& t : g.trajectories) {
-    const ErrorStats& e = t.entry_mm;
-    const ErrorStats& d = t.direction_deg;
-    std::cout << "  " << t.name << "\t" << e.median_mm << " / " << e.p95_mm << "\t\t" << d.median_mm
-              << " / " << d.p95_mm << "\n";
+    const Summary& e = t.entry_mm;
+    const Summary& d = t.direction_deg;
+    std::cout << "  " << t.name << "\t" << e.median << " / " << e.p95 << "\t\t" << d.median << " / "
+              << d.p95 << "\n";
   }
-  std::cout << "all: entry median " << entry.median_mm << " mm (p95 " << entry.p95_mm << ", RMS "
-            << entry.rms_mm << "), in world (with the headset's pose error) " << world.median_mm
-            << " mm; direction median " << angle.median_mm << " deg (p95 " << angle.p95_mm << ")\n";
+  std::cout << "all: entry median " << entry.median << " mm (p95 " << entry.p95 << ", RMS "
+            << entry.rms << "), in world (with the headset's pose error) " << world.median
+            << " mm; direction median " << angle.median << " deg (p95 " << angle.p95 << ")\n";
   return EXIT_SUCCESS;
 }
 

@@ -95,18 +95,17 @@ bool StudyFrame(const AhatFrame& frame, const TruthHits& truth, const AhatCamera
   return true;
 }
 
-Json StatsJson(const DepthErrorStats& s) {
-  return {{"count", s.count},  {"median_mm", s.median_mm}, {"iqr_mm", s.q3_mm - s.q1_mm},
-          {"q1_mm", s.q1_mm},  {"q3_mm", s.q3_mm},         {"mean_mm", s.mean_mm},
-          {"std_mm", s.std_mm}};
+Json StatsJson(const Summary& s) {  // a Summary of depth errors [mm]
+  return {{"count", s.count}, {"median_mm", s.median}, {"iqr_mm", s.iqr()}, {"q1_mm", s.p25},
+          {"q3_mm", s.p75},   {"mean_mm", s.mean},     {"std_mm", s.sd}};
 }
 
 Json CellsJson(const std::vector<MaterialCell>& cells, const std::vector<std::string>& names) {
   Json out = Json::array();
   for (const MaterialCell& c : cells) {
     Json j{{"material", names[static_cast<std::size_t>(c.material)]},
-           {"vs_reference", StatsJson(c.vs_reference)},
-           {"vs_truth", StatsJson(c.vs_truth)}};
+           {"vs_reference", StatsJson(c.vs_reference_mm)},
+           {"vs_truth", StatsJson(c.vs_truth_mm)}};
     if (std::isfinite(c.depth_max_mm)) j["depth_mm"] = {c.depth_min_mm, c.depth_max_mm};
     if (std::isfinite(c.angle_max_rad)) {
       j["angle_deg"] = {c.angle_min_rad * kRadToDeg, c.angle_max_rad * kRadToDeg};
@@ -141,8 +140,8 @@ void PrintAxis(const std::string& title, const std::vector<MaterialCell>& cells,
       const auto it = row.find(m);
       std::ostringstream cell;
       if (it != row.end()) {
-        cell << std::fixed << std::setprecision(2) << it->second->vs_reference.median_mm << " ("
-             << it->second->vs_truth.median_mm << ")";
+        cell << std::fixed << std::setprecision(2) << it->second->vs_reference_mm.median << " ("
+             << it->second->vs_truth_mm.median << ")";
       }
       std::cout << std::setw(22) << cell.str();
     }
@@ -205,12 +204,12 @@ int RunEvaluateMaterials(int argc, char** argv) {
     progress.Update(n + 1, picked.size());
   }
   const MaterialStudyResult result = study.Summarise();
-  const DepthErrorStats rms = SummariseDepthErrors({plane_rms.begin(), plane_rms.end()});
+  const Summary plane_rms_mm = SummariseDepthErrors({plane_rms.begin(), plane_rms.end()});
   if (json_out) {
     std::cout << Json{{"frames", picked.size()},
                       {"frames_with_plane", plane_rms.size()},
                       {"marker_error_applied", settings.frf.has_value()},
-                      {"reference_plane_rms_mm_median", rms.median_mm},
+                      {"reference_plane_rms_mm_median", plane_rms_mm.median},
                       {"overall", CellsJson(result.overall, names)},
                       {"by_depth", CellsJson(result.by_depth, names)},
                       {"by_angle", CellsJson(result.by_angle, names)},
@@ -221,19 +220,19 @@ int RunEvaluateMaterials(int argc, char** argv) {
   }
   std::cout << "material depth error [mm], " << picked.size() << " frames (" << plane_rms.size()
             << " with a reference plane, median plane RMS " << std::fixed << std::setprecision(2)
-            << rms.median_mm << " mm), f_rf " << (settings.frf ? "applied" : "not applied") << "\n"
+            << plane_rms_mm.median << " mm), f_rf " << (settings.frf ? "applied" : "not applied")
+            << "\n"
             << std::left << std::setw(18) << "material" << std::right << std::setw(10) << "pixels"
             << std::setw(12) << "ref median" << std::setw(8) << "IQR" << std::setw(8) << "std"
             << std::setw(12) << "true median" << std::setw(8) << "IQR" << std::setw(12)
             << "ref - true\n";
   for (const MaterialCell& c : result.overall) {
     std::cout << std::left << std::setw(18) << names[static_cast<std::size_t>(c.material)]
-              << std::right << std::setw(10) << c.vs_reference.count << std::setw(12)
-              << c.vs_reference.median_mm << std::setw(8)
-              << c.vs_reference.q3_mm - c.vs_reference.q1_mm << std::setw(8)
-              << c.vs_reference.std_mm << std::setw(12) << c.vs_truth.median_mm << std::setw(8)
-              << c.vs_truth.q3_mm - c.vs_truth.q1_mm << std::setw(11)
-              << c.vs_reference.median_mm - c.vs_truth.median_mm << "\n";
+              << std::right << std::setw(10) << c.vs_reference_mm.count << std::setw(12)
+              << c.vs_reference_mm.median << std::setw(8) << c.vs_reference_mm.iqr() << std::setw(8)
+              << c.vs_reference_mm.sd << std::setw(12) << c.vs_truth_mm.median << std::setw(8)
+              << c.vs_truth_mm.iqr() << std::setw(11)
+              << c.vs_reference_mm.median - c.vs_truth_mm.median << "\n";
   }
   PrintAxis("by depth", result.by_depth, names, true);
   PrintAxis("by incidence angle", result.by_angle, names, false);

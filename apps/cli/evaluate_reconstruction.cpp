@@ -17,9 +17,10 @@
 namespace tofnav {
 namespace {
 
-nlohmann::ordered_json StatsJson(const ErrorStats& s) {
-  return {{"count", s.count},   {"median_mm", s.median_mm},           {"iqr_mm", s.iqr_mm},
-          {"rms_mm", s.rms_mm}, {"mean_signed_mm", s.mean_signed_mm}, {"p95_mm", s.p95_mm}};
+nlohmann::ordered_json StatsJson(const SurfaceErrorStats& s) {
+  return {
+      {"count", s.abs_mm.count}, {"median_mm", s.abs_mm.median},       {"iqr_mm", s.abs_mm.iqr()},
+      {"rms_mm", s.abs_mm.rms},  {"mean_signed_mm", s.mean_signed_mm}, {"p95_mm", s.abs_mm.p95}};
 }
 
 // The paper's Table II: per material, rows H, TP, FP, HS, AVG (over TP, FP, HS), columns
@@ -50,10 +51,11 @@ void PrintTable(const ReconstructionEvaluation& e) {
           std::printf(" %6s %6s", "", "");
           continue;
         }
-        std::printf(" %6.2f %6.2f", it->second->stats.median_mm, it->second->stats.iqr_mm);
+        std::printf(" %6.2f %6.2f", it->second->stats.abs_mm.median,
+                    it->second->stats.abs_mm.iqr());
         if (std::string(row) != "H") {
-          sum_med[k - 1] += it->second->stats.median_mm;
-          sum_iqr[k - 1] += it->second->stats.iqr_mm;
+          sum_med[k - 1] += it->second->stats.abs_mm.median;
+          sum_iqr[k - 1] += it->second->stats.abs_mm.iqr();
           ++n[k - 1];
         }
       }
@@ -130,15 +132,15 @@ int RunEvaluateReconstruction(int argc, char** argv) {
   std::printf(
       "%zu vertices, %zu outliers (> %.1f mm): median %.3f mm, IQR %.3f mm, RMS %.3f mm, "
       "mean signed %+.3f mm\n\n",
-      e.vertices, e.outliers, options.max_distance_mm, e.all.median_mm, e.all.iqr_mm, e.all.rms_mm,
-      e.all.mean_signed_mm);
+      e.vertices, e.outliers, options.max_distance_mm, e.all.abs_mm.median, e.all.abs_mm.iqr(),
+      e.all.abs_mm.rms, e.all.mean_signed_mm);
   PrintTable(e);
   std::printf("\n%-26s %-14s %8s %7s %7s %7s %8s\n", "object", "material", "vertices", "median",
               "IQR", "RMS", "signed");
   for (const ObjectError& o : e.objects) {
     std::printf("%-26s %-14s %8zu %7.3f %7.3f %7.3f %+8.3f\n", o.name.c_str(), o.material.c_str(),
-                o.stats.count, o.stats.median_mm, o.stats.iqr_mm, o.stats.rms_mm,
-                o.stats.mean_signed_mm);
+                o.stats.abs_mm.count, o.stats.abs_mm.median, o.stats.abs_mm.iqr(),
+                o.stats.abs_mm.rms, o.stats.mean_signed_mm);
   }
   return EXIT_SUCCESS;
 }

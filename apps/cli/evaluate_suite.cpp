@@ -11,6 +11,7 @@
 #include <set>
 
 #include "evaluate.hpp"
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/evaluation/suite_case.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/report/suite_report.hpp"
@@ -50,7 +51,7 @@ void PrintRow(const SuiteJson& row) {
 }
 
 // Typical (median) and worst case of a figure over the rows, and how many rows meet its line.
-SuiteJson Summary(const std::vector<SuiteJson>& rows) {
+SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
   SuiteJson summary = SuiteJson::object();
   std::size_t refused = 0, failed = 0, all_met = 0;
   for (const char* key : {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm",
@@ -63,8 +64,7 @@ SuiteJson Summary(const std::vector<SuiteJson>& rows) {
       }
     }
     if (values.empty()) continue;
-    std::sort(values.begin(), values.end());
-    summary[key] = {{"median", values[values.size() / 2]}, {"worst", values.back()}};
+    summary[key] = {{"median", Median(values)}, {"worst", Max(values)}};
   }
   for (const SuiteJson& r : rows) {
     if (!r.at("ok").get<bool>()) ++failed;
@@ -136,7 +136,7 @@ int RunEvaluateSuite(int argc, char** argv) {
                    {"suite_file", path.string()},
                    {"frames_scale", scale},
                    {"elapsed_s", elapsed_s},
-                   {"summary", Summary(rows)},
+                   {"summary", SuiteSummary(rows)},
                    {"rows", rows}};
   WriteFileAtomically(out / "suite.json", result.dump(2) + "\n");
   WriteSuiteHtml(out / "suite.json", out / "suite.html");

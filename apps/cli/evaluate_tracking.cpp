@@ -18,9 +18,11 @@ using OrderedJson = nlohmann::ordered_json;
 constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 OrderedJson StatsJson(const PoseErrorStats& s) {
-  return {{"count", s.count},    {"median_mm", s.median_mm},   {"rms_mm", s.rms_mm},
-          {"max_mm", s.max_mm},  {"median_deg", s.median_deg}, {"rms_deg", s.rms_deg},
-          {"max_deg", s.max_deg}};
+  const Summary& mm = s.position_mm;
+  const Summary& deg = s.rotation_deg;
+  return {{"count", mm.count}, {"median_mm", mm.median},   {"rms_mm", mm.rms},
+          {"max_mm", mm.max},  {"median_deg", deg.median}, {"rms_deg", deg.rms},
+          {"max_deg", deg.max}};
 }
 
 OrderedJson EvaluationJson(const std::string& name, const ToolEvaluation& e) {
@@ -56,16 +58,19 @@ void PrintText(const std::string& name, const ToolEvaluation& e) {
   std::cout << name << ": " << e.frames << " frames, posed " << e.posed_frames << ", tracked "
             << e.tracked_fully_visible << " of " << e.fully_visible_frames << " fully visible ("
             << 100.0 * e.tracked_fraction << " %), wrong identities " << e.wrong_identities << "\n"
-            << "  raw      position median " << e.raw.median_mm << " RMS " << e.raw.rms_mm
-            << " max " << e.raw.max_mm << " mm; rotation median " << e.raw.median_deg << " RMS "
-            << e.raw.rms_deg << " max " << e.raw.max_deg << " deg\n"
-            << "  raw, fully visible frames: position RMS " << e.raw_fully_visible.rms_mm
-            << " mm, rotation RMS " << e.raw_fully_visible.rms_deg << " deg\n"
-            << "  filtered, fully visible frames: position RMS " << e.filtered_fully_visible.rms_mm
-            << " mm, rotation RMS " << e.filtered_fully_visible.rms_deg << " deg\n"
-            << "  filtered position median " << e.filtered.median_mm << " RMS " << e.filtered.rms_mm
-            << " max " << e.filtered.max_mm << " mm; rotation median " << e.filtered.median_deg
-            << " RMS " << e.filtered.rms_deg << " max " << e.filtered.max_deg << " deg\n"
+            << "  raw      position median " << e.raw.position_mm.median << " RMS "
+            << e.raw.position_mm.rms << " max " << e.raw.position_mm.max << " mm; rotation median "
+            << e.raw.rotation_deg.median << " RMS " << e.raw.rotation_deg.rms << " max "
+            << e.raw.rotation_deg.max << " deg\n"
+            << "  raw, fully visible frames: position RMS " << e.raw_fully_visible.position_mm.rms
+            << " mm, rotation RMS " << e.raw_fully_visible.rotation_deg.rms << " deg\n"
+            << "  filtered, fully visible frames: position RMS "
+            << e.filtered_fully_visible.position_mm.rms << " mm, rotation RMS "
+            << e.filtered_fully_visible.rotation_deg.rms << " deg\n"
+            << "  filtered position median " << e.filtered.position_mm.median << " RMS "
+            << e.filtered.position_mm.rms << " max " << e.filtered.position_mm.max
+            << " mm; rotation median " << e.filtered.rotation_deg.median << " RMS "
+            << e.filtered.rotation_deg.rms << " max " << e.filtered.rotation_deg.max << " deg\n"
             << "  static jitter (" << e.static_frames << " frames): raw " << jitter(e.jitter_raw_mm)
             << ", filtered " << jitter(e.jitter_filtered_mm) << "\n  marker range bias:";
   for (const RangeBiasBin& b : e.range_bias) {

@@ -15,17 +15,12 @@
 #include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/casefile/tool_poses_io.hpp"
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/pipeline/marker_tasks.hpp"
 
 namespace tofnav {
 namespace {
-
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-  return v[v.size() / 2];
-}
 
 // The markers a tool's poses left out (docs/tracking.md section 6): per marker, posed frames in
 // which it was dropped (by reason), used although damaged, or unseen.
@@ -147,7 +142,7 @@ int RunTrack(int argc, char** argv) {
   for (std::size_t t = 0; t < tools.size(); ++t) {
     nlohmann::ordered_json tool{{"name", tools[t].name},
                                 {"posed_frames", static_cast<std::int64_t>(fre[t].size())},
-                                {"median_fre_mm", Median(fre[t])},
+                                {"median_fre_mm", fre[t].empty() ? 0.0 : Median(fre[t])},
                                 {"status", nlohmann::ordered_json::object()}};
     for (const auto& [status, n] : counts[t]) tool["status"][ToString(status)] = n;
     tool["marker_drops"] = DropsJson(drops.tools[t], tools[t].markers_in_tool.size());

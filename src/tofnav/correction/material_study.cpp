@@ -69,8 +69,8 @@ std::vector<MaterialCell> Group(const std::vector<MaterialPixel>& pixels,
     cell.depth_max_mm = depth_bin < 0 ? kInf : (depth_bin + 1) * options.depth_bin_mm;
     cell.angle_min_rad = angle_bin < 0 ? 0.0 : angle_bin * options.angle_bin_rad;
     cell.angle_max_rad = angle_bin < 0 ? kInf : (angle_bin + 1) * options.angle_bin_rad;
-    cell.vs_reference = SummariseDepthErrors(std::move(errors.first));
-    cell.vs_truth = SummariseDepthErrors(std::move(errors.second));
+    cell.vs_reference_mm = SummariseDepthErrors(std::move(errors.first));
+    cell.vs_truth_mm = SummariseDepthErrors(std::move(errors.second));
     cells.push_back(cell);
   }
   return cells;
@@ -159,23 +159,9 @@ MaterialStudyResult MaterialStudy::Summarise() const {
   return result;
 }
 
-DepthErrorStats SummariseDepthErrors(std::vector<float> errors_mm) {
+Summary SummariseDepthErrors(std::vector<float> errors_mm) {
   std::erase_if(errors_mm, [](float e) { return !std::isfinite(e); });
-  DepthErrorStats s;
-  s.count = errors_mm.size();
-  if (errors_mm.empty()) return s;
-  std::sort(errors_mm.begin(), errors_mm.end());
-  const auto at = [&](double q) {
-    return static_cast<double>(
-        errors_mm[static_cast<std::size_t>(std::lround(q * static_cast<double>(s.count - 1)))]);
-  };
-  s.q1_mm = at(0.25), s.median_mm = at(0.5), s.q3_mm = at(0.75);
-  double sum = 0.0, sum2 = 0.0;
-  for (const float e : errors_mm) sum += e, sum2 += static_cast<double>(e) * e;
-  const auto n = static_cast<double>(s.count);
-  s.mean_mm = sum / n;
-  s.std_mm = s.count > 1 ? std::sqrt(std::max(0.0, (sum2 - sum * sum / n) / (n - 1.0))) : 0.0;
-  return s;
+  return Summarise(errors_mm);
 }
 
 }  // namespace tofnav

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "tofnav/core/statistics.hpp"
+
 namespace tofnav {
 
 /// The plane n . x + offset_mm = 0 in `ahat` [mm], n unit and facing the camera (offset > 0).
@@ -55,19 +57,13 @@ struct MaterialStudyOptions {
   void Check() const;                  // throws std::invalid_argument naming the bad field
 };
 
-/// Median, quartiles, mean and standard deviation of depth errors [mm].
-struct DepthErrorStats {
-  std::size_t count = 0;
-  double median_mm = 0.0, q1_mm = 0.0, q3_mm = 0.0, mean_mm = 0.0, std_mm = 0.0;
-};
-
 /// One cell of the study: a material over a depth and an angle range (a whole axis: [0, inf)).
 struct MaterialCell {
   int material = 0;
   double depth_min_mm = 0.0, depth_max_mm = 0.0;
   double angle_min_rad = 0.0, angle_max_rad = 0.0;
-  DepthErrorStats vs_reference;
-  DepthErrorStats vs_truth;  // count 0 when no pixel had truth
+  Summary vs_reference_mm;  // depth errors against the reference plane [mm]
+  Summary vs_truth_mm;      // against the truth [mm]; count 0 when no pixel had truth
 };
 
 struct MaterialStudyResult {
@@ -92,7 +88,7 @@ class MaterialStudy {
   std::vector<MaterialPixel> pixels_;
 };
 
-/// Median, quartiles (nearest rank), mean and standard deviation; NaNs are skipped.
-DepthErrorStats SummariseDepthErrors(std::vector<float> errors_mm);
+/// The Summary of the finite errors (NaNs, meaning "no truth", are skipped).
+Summary SummariseDepthErrors(std::vector<float> errors_mm);
 
 }  // namespace tofnav

@@ -101,14 +101,14 @@ TEST(MaterialStudy, RecoversPerMaterialBiasesPerBin) {
   const MaterialStudyResult result = study.Summarise();
   ASSERT_EQ(result.overall.size(), 2u);
   for (const MaterialCell& cell : result.overall) {
-    EXPECT_EQ(cell.vs_reference.count, 200u);
-    EXPECT_NEAR(cell.vs_reference.median_mm, bias_mm[cell.material], kBiasTolMm);
-    EXPECT_NEAR(cell.vs_truth.median_mm, bias_mm[cell.material], kBiasTolMm);
-    EXPECT_NEAR(cell.vs_reference.std_mm, kNoiseMm, kBiasTolMm);
+    EXPECT_EQ(cell.vs_reference_mm.count, 200u);
+    EXPECT_NEAR(cell.vs_reference_mm.median, bias_mm[cell.material], kBiasTolMm);
+    EXPECT_NEAR(cell.vs_truth_mm.median, bias_mm[cell.material], kBiasTolMm);
+    EXPECT_NEAR(cell.vs_reference_mm.sd, kNoiseMm, kBiasTolMm);
   }
   std::size_t binned = 0;
   for (const MaterialCell& cell : result.by_depth) {
-    binned += cell.vs_reference.count;
+    binned += cell.vs_reference_mm.count;
     EXPECT_DOUBLE_EQ(cell.depth_max_mm - cell.depth_min_mm, 100.0);
   }
   EXPECT_EQ(binned, 400u);
@@ -120,13 +120,13 @@ TEST(MaterialStudy, RecoversPerMaterialBiasesPerBin) {
 }
 
 TEST(SummariseDepthErrors, QuartilesMeanAndStdSkippingNaN) {
-  const DepthErrorStats s = SummariseDepthErrors({1.0f, 2.0f, 3.0f, 4.0f, 5.0f, NAN});
+  const Summary s = SummariseDepthErrors({1.0f, 2.0f, 3.0f, 4.0f, 5.0f, NAN});
   EXPECT_EQ(s.count, 5u);
-  EXPECT_DOUBLE_EQ(s.median_mm, 3.0);
-  EXPECT_DOUBLE_EQ(s.q1_mm, 2.0);
-  EXPECT_DOUBLE_EQ(s.q3_mm, 4.0);
-  EXPECT_DOUBLE_EQ(s.mean_mm, 3.0);
-  EXPECT_NEAR(s.std_mm, std::sqrt(2.5), 1e-12);
+  EXPECT_DOUBLE_EQ(s.median, 3.0);
+  EXPECT_DOUBLE_EQ(s.p25, 2.0);
+  EXPECT_DOUBLE_EQ(s.p75, 4.0);
+  EXPECT_DOUBLE_EQ(s.mean, 3.0);
+  EXPECT_NEAR(s.sd, std::sqrt(2.5), 1e-12);
   EXPECT_EQ(SummariseDepthErrors({}).count, 0u);
 }
 

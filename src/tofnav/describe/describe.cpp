@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/describe/describe_json.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
@@ -28,17 +29,9 @@ using Json = nlohmann::ordered_json;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 // Quantile of a histogram of integer values (q in [0, 1]); -1 when empty.
-int HistogramQuantile(const std::vector<std::uint64_t>& histogram, double q) {
-  std::uint64_t total = 0;
-  for (const std::uint64_t c : histogram) total += c;
-  if (total == 0) return -1;
-  const auto rank = static_cast<std::uint64_t>(q * static_cast<double>(total - 1));
-  std::uint64_t seen = 0;
-  for (std::size_t i = 0; i < histogram.size(); ++i) {
-    seen += histogram[i];
-    if (seen > rank) return static_cast<int>(i);
-  }
-  return static_cast<int>(histogram.size()) - 1;
+double HistogramQuantile(const std::vector<std::uint64_t>& histogram, double q) {
+  const bool empty = std::all_of(histogram.begin(), histogram.end(), [](auto c) { return c == 0; });
+  return empty ? -1.0 : QuantileOfCounts(histogram, q);
 }
 
 Json RigidJson(const Rigid3d& b_from_a) {
@@ -64,10 +57,7 @@ Json TimingJson(const AhatRecording& recording) {
         static_cast<double>(recording.host_ticks(i) - recording.host_ticks(i - 1)) *
         kSecondsPerHostTick);
   }
-  std::vector<double> sorted = intervals_s;
-  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
-                   sorted.end());
-  const double median_s = sorted[sorted.size() / 2];
+  const double median_s = Median(intervals_s);
   timing["median_interval_ms"] = median_s * 1e3;
   timing["median_rate_hz"] = median_s > 0.0 ? 1.0 / median_s : 0.0;
   timing["gaps_over_2x_median"] = std::count_if(intervals_s.begin(), intervals_s.end(),

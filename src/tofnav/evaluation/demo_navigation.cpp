@@ -129,23 +129,25 @@ void RunDemoTracking(DemoContext& ctx, DemoJson& stage) {
           << (f.raw->translation - f.true_ahat_from_tool.translation).norm() << ','
           << AngleDeg(*f.raw, f.true_ahat_from_tool) << '\n';
     }
-    stage["tools"].push_back({{"name", t.name},
-                              {"frames", e.frames},
-                              {"posed_frames", e.posed_frames},
-                              {"tracked_percent", 100.0 * e.tracked_fraction},
-                              {"position_rms_mm", e.raw.rms_mm},
-                              {"rotation_rms_deg", e.raw.rms_deg},
-                              {"filtered_position_rms_mm", e.filtered_fully_visible.rms_mm},
-                              {"filtered_rotation_rms_deg", e.filtered_fully_visible.rms_deg},
-                              {"wrong_identities", e.wrong_identities}});
+    stage["tools"].push_back(
+        {{"name", t.name},
+         {"frames", e.frames},
+         {"posed_frames", e.posed_frames},
+         {"tracked_percent", 100.0 * e.tracked_fraction},
+         {"position_rms_mm", e.raw.position_mm.rms},
+         {"rotation_rms_deg", e.raw.rotation_deg.rms},
+         {"filtered_position_rms_mm", e.filtered_fully_visible.position_mm.rms},
+         {"filtered_rotation_rms_deg", e.filtered_fully_visible.rotation_deg.rms},
+         {"wrong_identities", e.wrong_identities}});
     if (!t.name.starts_with("reference")) continue;  // issue 4's lines are the reference tools'
     // Issue 4's lines on the tracker's output pose: the filtered one (orientation filtered in the
     // world frame, position with a camera-motion-adaptive filter, when the rig pose is known).
     // The raw figures stay in the table beside them.
     stage["acceptance"].push_back(Acceptance(t.name + " filtered position_rms_mm",
-                                             e.filtered_fully_visible.rms_mm, "<=", 0.25));
+                                             e.filtered_fully_visible.position_mm.rms, "<=", 0.25));
     stage["acceptance"].push_back(Acceptance(t.name + " filtered rotation_rms_deg",
-                                             e.filtered_fully_visible.rms_deg, "<=", 0.25));
+                                             e.filtered_fully_visible.rotation_deg.rms,
+                                             "<=", 0.25));
     stage["acceptance"].push_back(
         Acceptance(t.name + " tracked_percent", 100.0 * e.tracked_fraction, ">=", 99.0));
     stage["acceptance"].push_back(
@@ -184,18 +186,18 @@ void RunDemoGuidance(DemoContext& ctx, DemoJson& stage) {
   stage["trajectories"] = DemoJson::array();
   for (const TrajectoryGuidanceError& t : g.trajectories) {
     stage["trajectories"].push_back({{"name", t.name},
-                                     {"entry_error_mm", t.entry_mm.median_mm},
-                                     {"angle_error_deg", t.direction_deg.median_mm}});
+                                     {"entry_error_mm", t.entry_mm.median},
+                                     {"angle_error_deg", t.direction_deg.median}});
   }
-  stage["entry_median_mm"] = g.entry_mm.median_mm;
-  stage["entry_p95_mm"] = g.entry_mm.p95_mm;
-  stage["angle_median_deg"] = g.direction_deg.median_mm;
-  stage["angle_p95_deg"] = g.direction_deg.p95_mm;
-  stage["entry_world_median_mm"] = g.entry_world_mm.median_mm;
+  stage["entry_median_mm"] = g.entry_mm.median;
+  stage["entry_p95_mm"] = g.entry_mm.p95;
+  stage["angle_median_deg"] = g.direction_deg.median;
+  stage["angle_p95_deg"] = g.direction_deg.p95;
+  stage["entry_world_median_mm"] = g.entry_world_mm.median;
   stage["navigation_csv"] = "navigation.csv";
   stage["acceptance"] = DemoJson::array(  // issue 8
-      {Acceptance("entry_median_mm", g.entry_mm.median_mm, "<=", 1.0),
-       Acceptance("angle_median_deg", g.direction_deg.median_mm, "<=", 1.0)});
+      {Acceptance("entry_median_mm", g.entry_mm.median, "<=", 1.0),
+       Acceptance("angle_median_deg", g.direction_deg.median, "<=", 1.0)});
 }
 
 }  // namespace tofnav

@@ -8,6 +8,7 @@
 
 #include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/evaluation/depth_evaluate.hpp"
 #include "tofnav/evaluation/reconstruct_evaluate.hpp"
@@ -42,14 +43,6 @@ DemoJson Histogram(const std::vector<std::vector<float>>& series, double lo, dou
     h[names[s]] = counts;
   }
   return h;
-}
-
-// The q-quantile of the values (copied).
-double Quantile(std::vector<float> v, double q) {
-  if (v.empty()) return 0.0;
-  const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
 }
 
 struct SessionFiles {
@@ -147,24 +140,24 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   for (const ObjectDepthError& o : e.objects) {
     if (o.name == head) head_error = &o;
     stage["objects"].push_back({{"name", o.name},
-                                {"pixels", o.before.pixels},
-                                {"before_median_mm", o.before.median_mm},
-                                {"before_iqr_mm", o.before.iqr_mm()},
-                                {"after_median_mm", o.after->median_mm},
-                                {"after_iqr_mm", o.after->iqr_mm()},
+                                {"pixels", o.before_mm.count},
+                                {"before_median_mm", o.before_mm.median},
+                                {"before_iqr_mm", o.before_mm.iqr()},
+                                {"after_median_mm", o.after_mm->median},
+                                {"after_iqr_mm", o.after_mm->iqr()},
                                 {"reduction_percent", o.reduction_percent},
                                 {"head_region_percent", o.head_region_percent},
                                 {"target", o.name == head}});
   }
   Require(head_error != nullptr, "no head pixel was evaluated");
-  const double lo = std::floor(
-      std::min(Quantile(head_error->before_mm, 0.005), Quantile(head_error->after_mm, 0.005)));
-  const double hi = std::ceil(
-      std::max(Quantile(head_error->before_mm, 0.995), Quantile(head_error->after_mm, 0.995)));
-  stage["histogram"] = Histogram({head_error->before_mm, head_error->after_mm}, lo,
+  const double lo = std::floor(std::min(Quantile(head_error->before_errors_mm, 0.005),
+                                        Quantile(head_error->after_errors_mm, 0.005)));
+  const double hi = std::ceil(std::max(Quantile(head_error->before_errors_mm, 0.995),
+                                       Quantile(head_error->after_errors_mm, 0.995)));
+  stage["histogram"] = Histogram({head_error->before_errors_mm, head_error->after_errors_mm}, lo,
                                  std::max(hi, lo + 1.0), {"before", "after"});
   stage["acceptance"] = DemoJson::array(  // issue 5 (head, with the CT)
-      {Acceptance("head after_median_mm (abs)", std::abs(head_error->after->median_mm), "<=", 0.5),
+      {Acceptance("head after_median_mm (abs)", std::abs(head_error->after_mm->median), "<=", 0.5),
        Acceptance("head reduction_percent", head_error->reduction_percent, ">=", 90.0)});
 }
 
@@ -214,19 +207,19 @@ void RunDemoReconstruction(DemoContext& ctx, DemoJson& stage) {
   stage["voxel_mm"] = options.tsdf.voxel_size_mm;
   stage["roi_automatic"] = r.roi_automatic;
   stage["vertices"] = r.mesh.vertices.size();
-  stage["head_vertices"] = head->stats.count;
+  stage["head_vertices"] = head->stats.abs_mm.count;
   stage["outliers"] = e.outliers;
-  stage["median_mm"] = head->stats.median_mm;
-  stage["iqr_mm"] = head->stats.iqr_mm;
-  stage["p95_mm"] = head->stats.p95_mm;
+  stage["median_mm"] = head->stats.abs_mm.median;
+  stage["iqr_mm"] = head->stats.abs_mm.iqr();
+  stage["p95_mm"] = head->stats.abs_mm.p95;
   stage["beyond_3mm_percent"] = 100.0 * head->stats.beyond_3mm_fraction;
-  stage["all_median_mm"] = e.all.median_mm;
+  stage["all_median_mm"] = e.all.abs_mm.median;
   stage["objects"] = DemoJson::array();
   for (const ObjectError& o : e.objects) {
     stage["objects"].push_back({{"name", o.name},
-                                {"vertices", o.stats.count},
-                                {"median_mm", o.stats.median_mm},
-                                {"iqr_mm", o.stats.iqr_mm}});
+                                {"vertices", o.stats.abs_mm.count},
+                                {"median_mm", o.stats.abs_mm.median},
+                                {"iqr_mm", o.stats.abs_mm.iqr()}});
   }
   std::vector<float> abs_error;
   for (const float v : e.colored.vertex_scalars) {
@@ -236,8 +229,8 @@ void RunDemoReconstruction(DemoContext& ctx, DemoJson& stage) {
   stage["histogram"] = histogram;
   stage["surface_ply"] = "surface.ply";
   stage["mesh_error_ply"] = "surface_error.ply";
-  stage["acceptance"] =
-      DemoJson::array({Acceptance("head median_mm", head->stats.median_mm, "<=", 0.3)});  // issue 6
+  stage["acceptance"] = DemoJson::array(
+      {Acceptance("head median_mm", head->stats.abs_mm.median, "<=", 0.3)});  // issue 6
 }
 
 }  // namespace tofnav

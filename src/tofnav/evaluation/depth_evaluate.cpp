@@ -36,19 +36,6 @@ bool Interior(const Image<int>& labels, const Image<float>& truth, int u, int v)
   return true;
 }
 
-DepthErrorStats Summarise(std::vector<float> e) {
-  DepthErrorStats s;
-  s.pixels = e.size();
-  if (e.empty()) return s;
-  auto at = [&](double q) {
-    const auto k = static_cast<std::size_t>(q * static_cast<double>(e.size() - 1));
-    std::nth_element(e.begin(), e.begin() + static_cast<std::ptrdiff_t>(k), e.end());
-    return static_cast<double>(e[k]);
-  };
-  s.q1_mm = at(0.25), s.median_mm = at(0.5), s.q3_mm = at(0.75);
-  return s;
-}
-
 }  // namespace
 
 DepthEvaluation EvaluateDepthAgainstTruth(
@@ -105,8 +92,8 @@ DepthEvaluation EvaluateDepthAgainstTruth(
         const std::string& name = scenario.scene.objects[static_cast<std::size_t>(label)].name;
         ObjectDepthError& o = objects[name];
         if (roi.labels(u, v) == static_cast<std::uint8_t>(PixelClass::kHead)) ++in_roi[name];
-        o.before_mm.push_back(static_cast<float>(measured) - truth_range(u, v));
-        if (corrected) o.after_mm.push_back((*corrected)(u, v) - truth_range(u, v));
+        o.before_errors_mm.push_back(static_cast<float>(measured) - truth_range(u, v));
+        if (corrected) o.after_errors_mm.push_back((*corrected)(u, v) - truth_range(u, v));
       }
     }
     if (progress) progress(n + 1, picked.size());
@@ -116,16 +103,16 @@ DepthEvaluation EvaluateDepthAgainstTruth(
   result.target_object = target;
   for (auto& [name, o] : objects) {
     o.name = name;
-    o.before = Summarise(o.before_mm);
+    o.before_mm = Summarise(o.before_errors_mm);
     o.role = target.empty() ? "object" : name == target ? "target" : "other";
-    o.head_region_percent = o.before.pixels > 0 ? 100.0 * static_cast<double>(in_roi[name]) /
-                                                      static_cast<double>(o.before.pixels)
-                                                : 0.0;
+    o.head_region_percent = o.before_mm.count > 0 ? 100.0 * static_cast<double>(in_roi[name]) /
+                                                        static_cast<double>(o.before_mm.count)
+                                                  : 0.0;
     if (model) {
-      o.after = Summarise(o.after_mm);
+      o.after_mm = Summarise(o.after_errors_mm);
       o.reduction_percent =
-          o.before.median_mm != 0.0
-              ? 100.0 * (1.0 - std::abs(o.after->median_mm) / std::abs(o.before.median_mm))
+          o.before_mm.median != 0.0
+              ? 100.0 * (1.0 - std::abs(o.after_mm->median) / std::abs(o.before_mm.median))
               : 0.0;
     }
     result.objects.push_back(std::move(o));

@@ -11,18 +11,12 @@
 #include <vector>
 
 #include "tofnav/casefile/depth_model_json.hpp"
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_recording.hpp"
 #include "tofnav/sim/scenario.hpp"
 
 namespace tofnav {
-
-/// Median and quartiles of signed depth errors (measured - true range) [mm].
-struct DepthErrorStats {
-  std::size_t pixels = 0;
-  double median_mm = 0.0, q1_mm = 0.0, q3_mm = 0.0;
-  double iqr_mm() const { return q3_mm - q1_mm; }
-};
 
 struct ObjectDepthError {
   std::string name;  // scene object
@@ -30,10 +24,11 @@ struct ObjectDepthError {
   /// object of a patient scene (the head model applied for reference only); "object": no patient.
   std::string role;
   double head_region_percent = 0.0;  // share of its pixels in the automatic head region
-  DepthErrorStats before;
-  std::optional<DepthErrorStats> after;    // with a depth model
-  double reduction_percent = 0.0;          // 100 (1 - |after median| / |before median|)
-  std::vector<float> before_mm, after_mm;  // the errors themselves (for histograms)
+  /// Signed depth errors (measured - true range) [mm]; before_mm.count: the object's pixels.
+  Summary before_mm;
+  std::optional<Summary> after_mm;  // with a depth model
+  double reduction_percent = 0.0;   // 100 (1 - |after median| / |before median|)
+  std::vector<float> before_errors_mm, after_errors_mm;  // the errors themselves (histograms)
 };
 
 struct DepthEvaluation {

@@ -109,12 +109,12 @@ GuidanceEvaluation EvaluateGuidanceAgainstTruth(std::span<const PlacedFrame> pla
   if (entry_display.empty()) {
     throw std::runtime_error("no placed frame matches the timestamps of " + truth_json.string());
   }
-  result.entry_mm = ComputeErrorStats(entry_display);
-  result.entry_world_mm = ComputeErrorStats(entry_world);
-  result.direction_deg = ComputeErrorStats(direction);
+  result.entry_mm = Summarise(entry_display);
+  result.entry_world_mm = Summarise(entry_world);
+  result.direction_deg = Summarise(direction);
   for (const Trajectory& t : plan) {
-    result.trajectories.push_back({t.name, ComputeErrorStats(entry_by_name[t.name]),
-                                   ComputeErrorStats(direction_by_name[t.name])});
+    result.trajectories.push_back(
+        {t.name, Summarise(entry_by_name[t.name]), Summarise(direction_by_name[t.name])});
   }
   return result;
 }

@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "tofnav/evaluation/reconstruct_evaluate.hpp"
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/imaging/trajectory.hpp"
 #include "tofnav/pipeline/navigation_csv.hpp"
 
@@ -17,15 +17,15 @@ namespace tofnav {
 
 struct TrajectoryGuidanceError {
   std::string name;
-  ErrorStats entry_mm;       // entry point, as displayed relative to the head
-  ErrorStats direction_deg;  // trajectory direction (the _mm fields hold degrees)
+  Summary entry_mm;       // entry-point distance, as displayed relative to the head
+  Summary direction_deg;  // angle between the placed and the true trajectory direction
 };
 
 struct GuidanceEvaluation {
   std::size_t frames = 0;     // placed frames matched to the truth
   std::size_t unmatched = 0;  // placed frames without a truth frame at their time
-  ErrorStats entry_mm, entry_world_mm, direction_deg;  // over every frame and trajectory
-  std::vector<TrajectoryGuidanceError> trajectories;   // in plan order
+  Summary entry_mm, entry_world_mm, direction_deg;    // over every frame and trajectory
+  std::vector<TrajectoryGuidanceError> trajectories;  // in plan order
 };
 
 /// For every placed frame and trajectory: the entry point and direction of the placed plan

@@ -7,6 +7,7 @@
 #include <limits>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <numeric>
 
 #include "tofnav/core/parallel_for.hpp"
 #include "tofnav/core/require.hpp"
@@ -89,13 +90,6 @@ std::vector<std::pair<std::string, TriangleMesh>> ObjectMeshes(const Json& truth
   return meshes;
 }
 
-double Quantile(const std::vector<double>& sorted, double q) {
-  const double x = q * static_cast<double>(sorted.size() - 1);
-  const auto i = static_cast<std::size_t>(x);
-  const double f = x - static_cast<double>(i);
-  return i + 1 < sorted.size() ? sorted[i] + f * (sorted[i + 1] - sorted[i]) : sorted[i];
-}
-
 // Table II row and size column of an object name.
 std::pair<std::string, int> TableCell(const std::string& name, bool is_patient) {
   if (is_patient) return {"H", 1};
@@ -161,28 +155,20 @@ std::vector<TruthSurface> ReadTruthSurfaces(const std::filesystem::path& truth_d
   return surfaces;
 }
 
-ErrorStats ComputeErrorStats(const std::vector<double>& signed_distances_mm) {
+SurfaceErrorStats ComputeSurfaceErrorStats(const std::vector<double>& signed_distances_mm) {
   constexpr double kFarErrorMm = 3.0;  // the outlier line of the robustness suite (docs/suite.md)
-  ErrorStats s;
-  s.count = signed_distances_mm.size();
-  if (s.count == 0) return s;
+  SurfaceErrorStats s;
   std::vector<double> abs;
-  abs.reserve(s.count);
-  double sum = 0.0, sum2 = 0.0;
-  for (const double d : signed_distances_mm) {
-    abs.push_back(std::abs(d));
-    sum += d;
-    sum2 += d * d;
-  }
-  std::sort(abs.begin(), abs.end());
-  s.median_mm = Quantile(abs, 0.5);
-  s.iqr_mm = Quantile(abs, 0.75) - Quantile(abs, 0.25);
-  s.p95_mm = Quantile(abs, 0.95);
-  s.mean_signed_mm = sum / static_cast<double>(s.count);
-  s.rms_mm = std::sqrt(sum2 / static_cast<double>(s.count));
+  abs.reserve(signed_distances_mm.size());
+  for (const double d : signed_distances_mm) abs.push_back(std::abs(d));
+  s.abs_mm = Summarise(abs);
+  if (abs.empty()) return s;
+  const auto n = static_cast<double>(abs.size());
+  s.mean_signed_mm =
+      std::accumulate(signed_distances_mm.begin(), signed_distances_mm.end(), 0.0) / n;
   const auto beyond =
-      static_cast<double>(abs.end() - std::upper_bound(abs.begin(), abs.end(), kFarErrorMm));
-  s.beyond_3mm_fraction = beyond / static_cast<double>(s.count);
+      std::count_if(abs.begin(), abs.end(), [](double a) { return a > kFarErrorMm; });
+  s.beyond_3mm_fraction = static_cast<double>(beyond) / n;
   return s;
 }
 
@@ -236,12 +222,12 @@ ReconstructionEvaluation EvaluateReconstruction(const TriangleMesh& surface,
     e.colored.vertex_colors[i] = ErrorColor(signed_mm[i], options.color_scale_mm);
     e.colored.vertex_scalars[i] = static_cast<float>(signed_mm[i]);
   }
-  e.all = ComputeErrorStats(all);
+  e.all = ComputeSurfaceErrorStats(all);
   for (std::size_t o = 0; o < truth.size(); ++o) {
     if (per_object[o].empty()) continue;
     const auto [row, size] = TableCell(truth[o].name, truth[o].patient);
     e.objects.push_back(
-        {truth[o].name, truth[o].material, row, size, ComputeErrorStats(per_object[o])});
+        {truth[o].name, truth[o].material, row, size, ComputeSurfaceErrorStats(per_object[o])});
   }
   return e;
 }

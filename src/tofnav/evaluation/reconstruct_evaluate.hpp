@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/core/triangle_mesh.hpp"
 
 namespace tofnav {
@@ -29,17 +30,13 @@ std::vector<TruthSurface> ReadTruthSurfaces(const std::filesystem::path& truth_d
                                             const std::string& tool_name = "",
                                             const std::filesystem::path& scenario_file = {});
 
-struct ErrorStats {
-  std::size_t count = 0;
-  double median_mm = 0.0;  // of |distance|
-  double iqr_mm = 0.0;     // interquartile range of |distance|
+/// Signed vertex-to-truth distances: the Summary of their absolute values, their signed mean.
+struct SurfaceErrorStats {
+  Summary abs_mm;  // of |distance| (count: the distances)
   double mean_signed_mm = 0.0;
-  double rms_mm = 0.0;
-  double p95_mm = 0.0;
   double beyond_3mm_fraction = 0.0;  // share of |distance| > 3 mm
 };
-/// Statistics of distances (their absolute values for median, IQR, RMS and p95).
-ErrorStats ComputeErrorStats(const std::vector<double>& signed_distances_mm);
+SurfaceErrorStats ComputeSurfaceErrorStats(const std::vector<double>& signed_distances_mm);
 
 /// Table II rows: "H" head, "TP", "FP", "HS" test shapes ("<shape>_size<k>" names), else "other".
 struct ObjectError {
@@ -47,7 +44,7 @@ struct ObjectError {
   std::string material;
   std::string row;  // H, TP, FP, HS or other
   int size = 1;     // Table II size column 1..4
-  ErrorStats stats;
+  SurfaceErrorStats stats;
 };
 
 struct EvaluateReconstructionOptions {
@@ -58,7 +55,7 @@ struct EvaluateReconstructionOptions {
 };
 
 struct ReconstructionEvaluation {
-  ErrorStats all;                    // every matched vertex
+  SurfaceErrorStats all;             // every matched vertex
   std::vector<ObjectError> objects;  // objects with at least one vertex, in truth order
   std::size_t vertices = 0;
   std::size_t outliers = 0;  // farther than max_distance_mm from every surface

@@ -10,10 +10,12 @@
 #include <limits>
 #include <numbers>
 #include <random>
+#include <utility>
 #include <vector>
 
 #include "tofnav/core/image.hpp"
 #include "tofnav/core/rigid3d.hpp"
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/core/triangle_mesh.hpp"
 #include "tofnav/sensor/ahat_calibration.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
@@ -159,25 +161,19 @@ inline std::vector<Rigid3d> FrontPoses(const Eigen::Vector3d& target,
   return poses;
 }
 
-/// Median of |error| [mm].
+/// Median of |error| [mm] (docs/statistics.md); infinity when empty.
 inline double MedianAbs(std::vector<double> errors) {
   if (errors.empty()) return std::numeric_limits<double>::infinity();
   for (double& e : errors) e = std::abs(e);
-  std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(errors.size() / 2),
-                   errors.end());
-  return errors[errors.size() / 2];
+  return Median(errors);
 }
 
 /// Median of | |v - centre| - radius | over the mesh vertices [mm].
 inline double MedianSphereErrorMm(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
                                   double radius_mm) {
   std::vector<double> errors;
-  for (const Eigen::Vector3d& v : mesh.vertices)
-    errors.push_back(std::abs((v - centre).norm() - radius_mm));
-  if (errors.empty()) return std::numeric_limits<double>::infinity();
-  std::nth_element(errors.begin(), errors.begin() + static_cast<std::ptrdiff_t>(errors.size() / 2),
-                   errors.end());
-  return errors[errors.size() / 2];
+  for (const Eigen::Vector3d& v : mesh.vertices) errors.push_back((v - centre).norm() - radius_mm);
+  return MedianAbs(std::move(errors));
 }
 
 }  // namespace tofnav

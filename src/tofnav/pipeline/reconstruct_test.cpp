@@ -60,14 +60,14 @@ TEST(ReconstructOptions, CheckNamesTheBadField) {
   EXPECT_THROW(options.Check(), PreconditionError);
 }
 
-TEST(ComputeErrorStats, MedianIqrRmsOfAbsoluteValues) {
-  const ErrorStats s = ComputeErrorStats({-1.0, 2.0, 3.0, -4.0, 5.0});
-  EXPECT_EQ(s.count, 5u);
-  EXPECT_NEAR(s.median_mm, 3.0, kExactTolMm);
-  EXPECT_NEAR(s.iqr_mm, 2.0, kExactTolMm);  // quartiles 2 and 4 (linear interpolation)
+TEST(ComputeSurfaceErrorStats, MedianIqrRmsOfAbsoluteValues) {
+  const SurfaceErrorStats s = ComputeSurfaceErrorStats({-1.0, 2.0, 3.0, -4.0, 5.0});
+  EXPECT_EQ(s.abs_mm.count, 5u);
+  EXPECT_NEAR(s.abs_mm.median, 3.0, kExactTolMm);
+  EXPECT_NEAR(s.abs_mm.iqr(), 2.0, kExactTolMm);  // quartiles 2 and 4 (linear interpolation)
   EXPECT_NEAR(s.mean_signed_mm, 1.0, kExactTolMm);
-  EXPECT_NEAR(s.rms_mm, std::sqrt(11.0), kExactTolMm);
-  EXPECT_EQ(ComputeErrorStats({}).count, 0u);
+  EXPECT_NEAR(s.abs_mm.rms, std::sqrt(11.0), kExactTolMm);
+  EXPECT_EQ(ComputeSurfaceErrorStats({}).abs_mm.count, 0u);
 }
 
 TriangleMesh Square(double z_mm) {  // 100 mm square in the plane z, normal +z
@@ -91,11 +91,11 @@ TEST(EvaluateReconstruction, AssignsVerticesToTheNearestObjectWithTableRows) {
   ASSERT_EQ(e.objects.size(), 2u);
   EXPECT_EQ(e.objects[0].row, "HS");
   EXPECT_EQ(e.objects[0].size, 2);
-  EXPECT_NEAR(e.objects[0].stats.median_mm, 0.5, kExactTolMm);
+  EXPECT_NEAR(e.objects[0].stats.abs_mm.median, 0.5, kExactTolMm);
   EXPECT_NEAR(e.objects[0].stats.mean_signed_mm, 0.5, kExactTolMm);
   EXPECT_EQ(e.objects[1].row, "H");
   EXPECT_NEAR(e.objects[1].stats.mean_signed_mm, -0.25, kExactTolMm);
-  EXPECT_EQ(e.all.count, 6u);
+  EXPECT_EQ(e.all.abs_mm.count, 6u);
   ASSERT_EQ(e.colored.vertex_colors.size(), 7u);
   EXPECT_NEAR(e.colored.vertex_scalars[0], 0.5f, 1e-6f);
   EXPECT_TRUE(std::isnan(e.colored.vertex_scalars[6]));  // the outlier has no error

@@ -9,7 +9,7 @@ namespace tofnav {
 
 struct ReportOptions {
   int render_size_px = 320;  // side of each square mesh rendering
-  /// Top of the error colour scale [mm]; 0 picks the 95th percentile of the mesh's errors.
+  /// Top of the error colour scale [mm]; 0 picks the 95th percentile of the mesh's |errors|.
   double error_max_mm = 0.0;
   void Check() const;  // throws PreconditionError
 };

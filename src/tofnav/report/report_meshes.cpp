@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/report/mesh_render.hpp"
 #include "tofnav/report/report_internal.hpp"
@@ -29,12 +30,13 @@ constexpr View kFront{"front", 0.0, 10.0};
 constexpr View kSide{"left side", 90.0, 10.0};
 constexpr View kTop{"top", 0.0, 80.0};
 
-double Quantile(std::vector<float> values, double q) {
-  std::erase_if(values, [](float v) { return !std::isfinite(v); });
-  if (values.empty()) return 0.0;
-  const auto k = static_cast<std::size_t>(q * static_cast<double>(values.size() - 1));
-  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(k), values.end());
-  return values[k];
+// The q-quantile of the finite |errors| (0 when there is none).
+double AbsQuantile(const std::vector<float>& errors, double q) {
+  std::vector<double> abs;
+  for (const float e : errors) {
+    if (std::isfinite(e)) abs.push_back(std::abs(e));
+  }
+  return abs.empty() ? 0.0 : Quantile(abs, q);
 }
 
 std::string Renders(std::span<const MeshLayer> layers, std::span<const View> views,
@@ -58,7 +60,7 @@ std::string ErrorRenders(const Context& c, const Json& stage) {
   std::string scale;
   if (mesh.vertex_scalars.size() == mesh.vertices.size() && !mesh.vertices.empty()) {
     double top_mm = c.options.error_max_mm > 0.0 ? c.options.error_max_mm
-                                                 : Quantile(mesh.vertex_scalars, kErrorQuantile);
+                                                 : AbsQuantile(mesh.vertex_scalars, kErrorQuantile);
     if (!(top_mm > 0.0)) top_mm = 1.0;
     colours.reserve(mesh.vertices.size());
     for (float e : mesh.vertex_scalars) colours.push_back(ErrorColour(std::abs(e) / top_mm));

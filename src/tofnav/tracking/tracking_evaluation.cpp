@@ -13,31 +13,8 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  if (v.size() % 2 == 1) return *mid;
-  return 0.5 * (*mid + *std::max_element(v.begin(), mid));
-}
-
-double Rms(const std::vector<double>& v) {
-  double s = 0.0;
-  for (const double x : v) s += x * x;
-  return v.empty() ? 0.0 : std::sqrt(s / static_cast<double>(v.size()));
-}
-
 PoseErrorStats Stats(const std::vector<double>& mm, const std::vector<double>& deg) {
-  PoseErrorStats s;
-  s.count = static_cast<int>(mm.size());
-  if (mm.empty()) return s;
-  s.median_mm = Median(mm);
-  s.rms_mm = Rms(mm);
-  s.max_mm = *std::max_element(mm.begin(), mm.end());
-  s.median_deg = Median(deg);
-  s.rms_deg = Rms(deg);
-  s.max_deg = *std::max_element(deg.begin(), deg.end());
-  return s;
+  return {Summarise(mm), Summarise(deg)};
 }
 
 // Pooled sqrt(trace(covariance)) of positions over runs: sum |p - mean_run|^2 / sum n_run.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tofnav/core/rigid3d.hpp"
+#include "tofnav/core/statistics.hpp"
 
 namespace tofnav {
 
@@ -33,10 +34,10 @@ struct TrackingEvaluationOptions {
   void Check() const;             // throws std::invalid_argument naming the bad field
 };
 
+/// Errors of the poses compared (wrong identities excluded); count: the poses (the same in both).
 struct PoseErrorStats {
-  int count = 0;  // poses compared (wrong identities excluded)
-  double median_mm = 0.0, rms_mm = 0.0, max_mm = 0.0;
-  double median_deg = 0.0, rms_deg = 0.0, max_deg = 0.0;
+  Summary position_mm;   // translation error
+  Summary rotation_deg;  // rotation angle error
 };
 
 /// Mean signed range error |T_est m| - |T_true m| of the tool's marker centres, per bin of true

@@ -45,13 +45,13 @@ TEST(TrackingEvaluation, ErrorsFractionAndWrongIdentities) {
   EXPECT_EQ(e.fully_visible_frames, 6);
   EXPECT_EQ(e.tracked_fully_visible, 4);
   EXPECT_NEAR(e.tracked_fraction, 4.0 / 6.0, kTol);
-  EXPECT_EQ(e.raw.count, 4);
-  EXPECT_NEAR(e.raw.median_mm, 0.25, kTol);
-  EXPECT_NEAR(e.raw.rms_mm, std::sqrt((0.01 + 0.04 + 0.09 + 0.16) / 4.0), kTol);
-  EXPECT_NEAR(e.raw.max_mm, 0.4, kTol);
-  EXPECT_NEAR(e.raw.max_deg, 0.01 * 180.0 / std::numbers::pi, 1e-7);
-  EXPECT_EQ(e.filtered.count, 0);
-  EXPECT_EQ(e.raw_fully_visible.count, 4);
+  EXPECT_EQ(e.raw.position_mm.count, 4u);
+  EXPECT_NEAR(e.raw.position_mm.median, 0.25, kTol);
+  EXPECT_NEAR(e.raw.position_mm.rms, std::sqrt((0.01 + 0.04 + 0.09 + 0.16) / 4.0), kTol);
+  EXPECT_NEAR(e.raw.position_mm.max, 0.4, kTol);
+  EXPECT_NEAR(e.raw.rotation_deg.max, 0.01 * 180.0 / std::numbers::pi, 1e-7);
+  EXPECT_EQ(e.filtered.position_mm.count, 0u);
+  EXPECT_EQ(e.raw_fully_visible.position_mm.count, 4u);
   EXPECT_FALSE(e.jitter_raw_mm.has_value());
 }
 
