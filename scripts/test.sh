@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: BSD-3-Clause
-# The whole test suite: set-up, format check, layer, file-size and citation checks, -Werror build
-# + ctest, then the clang ASan+UBSan build (shared with the fuzzers) + ctest. The end-to-end runs
-# (label slow) run in the optimised pass only. Each phase prints its duration.
+# The whole test suite: set-up, format check, layer, one-definition (ODR), file-size and citation
+# checks, -Werror build + ctest, then the clang ASan+UBSan build (shared with the fuzzers) + ctest.
+# The end-to-end runs (label slow) run in the optimised pass only. Each phase prints its duration.
 # Usage: scripts/test.sh [--quick]  (--quick: skip the sanitizer pass)
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -11,8 +11,9 @@ scripts/setup.sh
 echo "== clang-format (v14) =="
 git ls-files '*.cpp' '*.hpp' | xargs clang-format-14 --dry-run -Werror
 
-echo "== layer, size and citation checks =="
+echo "== layer, one-definition, size and citation checks =="
 .ci/check_layers.sh
+.ci/check_odr.sh
 .ci/check_sizes.sh
 .ci/check_citations.sh
 

@@ -32,9 +32,6 @@ class PixelLookup {
   /// @param node_step_px  node spacing in pixels at the image centre (dimensionless)
   explicit PixelLookup(const AhatCamera& camera, double node_step_px = 1.0);
 
-  int image_width() const { return image_width_; }
-  int image_height() const { return image_height_; }
-
   /// The table as plain values, to copy into a hot loop's locals (a member read after every
   /// store through another pointer would have to be reloaded).
   struct Table {

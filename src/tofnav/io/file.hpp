@@ -51,7 +51,6 @@ class AtomicFileWriter {
   void Write(const std::string& text);
   /// Flushes, fsyncs and renames into place; IoError on failure.
   void Commit();
-  std::uint64_t bytes_written() const { return written_; }
 
  private:
   std::filesystem::path path_;

@@ -94,20 +94,6 @@ std::size_t GzipInflater::Read(std::span<std::uint8_t> out) {
   return filled;
 }
 
-std::uint64_t GzipInflater::Skip(std::uint64_t count) {
-  std::vector<std::uint8_t> scratch(
-      static_cast<std::size_t>(std::min<std::uint64_t>(count, kChunkBytes)));
-  std::uint64_t skipped = 0;
-  while (skipped < count) {
-    const auto step =
-        static_cast<std::size_t>(std::min<std::uint64_t>(count - skipped, kChunkBytes));
-    const std::size_t got = Read(std::span(scratch).first(step));
-    skipped += got;
-    if (got < step) break;
-  }
-  return skipped;
-}
-
 std::vector<std::uint8_t> InflateGzip(std::span<const std::uint8_t> compressed,
                                       const std::filesystem::path& path, std::size_t max_output,
                                       std::uint64_t base_offset) {

@@ -28,12 +28,8 @@ class GzipInflater {
   /// Fills `out` and returns out.size(), or fewer bytes only at the clean end of the stream.
   /// IoError on corrupt or truncated input (offset = compressed bytes consumed).
   std::size_t Read(std::span<std::uint8_t> out);
-  /// Discards `count` bytes; returns how many were skipped (fewer only at the end).
-  std::uint64_t Skip(std::uint64_t count);
   /// Absolute offset in `path` of the next compressed byte (for callers' error messages).
   std::uint64_t compressed_offset() const;
-  /// Decompressed bytes produced so far.
-  std::uint64_t produced() const { return produced_; }
 
  private:
   struct State;

@@ -37,12 +37,6 @@ int Scene::MarkerId(int tool, int marker) const {
   return id + marker;
 }
 
-int Scene::MarkerCount() const {
-  int count = 0;
-  for (const Tool& tool : tools) count += static_cast<int>(tool.markers.size());
-  return count;
-}
-
 void Scene::Check() const {
   const int material_count = static_cast<int>(materials.size());
   for (const Material& material : materials) material.Check();

@@ -58,7 +58,6 @@ struct Scene {
   int AddTool(Tool tool);
   /// Flat marker id used in truth images: tools in order, markers in order within a tool.
   int MarkerId(int tool, int marker) const;
-  int MarkerCount() const;
   /// Throws PreconditionError on bad material indices, inconsistent meshes or bad markers.
   void Check() const;
 };

@@ -63,18 +63,6 @@ std::string PanelText(const NavigationState& state, const std::vector<Trajectory
 
 }  // namespace
 
-const char* ToString(GuidanceLevel level) {
-  switch (level) {
-    case GuidanceLevel::kNoGuidance:
-      return "NO_GUIDANCE";
-    case GuidanceLevel::kOffTarget:
-      return "OFF_TARGET";
-    case GuidanceLevel::kOnTarget:
-      return "ON_TARGET";
-  }
-  return "?";
-}
-
 void HeadsetSceneOptions::Check() const {
   Require(entry_diameter_mm > 0.0 && path_diameter_mm > 0.0 && instrument_diameter_mm > 0.0 &&
               tip_diameter_mm > 0.0,

@@ -22,7 +22,6 @@ enum class GuidanceLevel {
   kOffTarget,   // amber: tip off the planned line or axis off its direction by more than allowed
   kOnTarget,    // green: within both
 };
-const char* ToString(GuidanceLevel level);
 
 /// One object of the remote scene, in `world` [mm].
 struct Hologram {

@@ -152,10 +152,8 @@ std::optional<AhatFrame> Hl2ssAhatClient::Next() {
       throw NetworkError(source, NetworkFailure::kTruncated,
                          "receiving the packet payload: the peer closed the connection inside it");
     }
-    ++packets_;
     std::optional<AhatFrame> frame = DecodeHl2ssPacket(config_, packet, source);
-    if (frame) return frame;
-    ++skipped_empty_;
+    if (frame) return frame;  // else an empty-AB packet: skipped
   }
 }
 

@@ -56,16 +56,11 @@ class Hl2ssAhatClient : public FrameSource {
   /// packet, a reset or a receive timeout; IoError on an oversized packet or a bad payload.
   std::optional<AhatFrame> Next() override;
   std::string description() const override;
-  std::uint64_t packets() const { return packets_; }
-  std::uint64_t skipped_empty() const { return skipped_empty_; }
 
  private:
   Hl2ssEndpoint endpoint_;
   Hl2ssAhatConfig config_;
   SocketFd socket_;
-  std::vector<std::uint8_t> prefix_;  // a recording header + config: packets decode as files
-  std::uint64_t packets_ = 0;
-  std::uint64_t skipped_empty_ = 0;
 };
 
 /// Decodes one received packet (12-byte header, payload, pose in mode 1) with the recording

@@ -57,11 +57,6 @@ void IgtlServer::Wake() {
   [[maybe_unused]] const ssize_t n = ::write(wake_.get(), &one, sizeof(one));
 }
 
-void IgtlServer::SetFrameHandler(std::function<void(const IgtlFrame&)> handler) {
-  const std::lock_guard lock(mutex_);
-  handler_ = std::move(handler);
-}
-
 IgtlServerStats IgtlServer::stats() const {
   const std::lock_guard lock(mutex_);
   IgtlServerStats s = stats_;
@@ -154,7 +149,7 @@ void IgtlServer::Accept() {
 // False when the client must be closed.
 bool IgtlServer::ReadFrom(Client& client) {
   std::array<std::uint8_t, 65536> buffer;
-  std::vector<IgtlFrame> frames;
+  std::vector<std::string> types;  // of the good frames read now, counted under the lock
   bool keep = true;
   while (keep) {
     const ssize_t n = ::recv(client.fd.get(), buffer.data(), buffer.size(), MSG_DONTWAIT);
@@ -165,14 +160,13 @@ bool IgtlServer::ReadFrom(Client& client) {
     if (!keep) break;
     try {
       client.receiver.Feed(std::span(buffer).first(static_cast<std::size_t>(n)),
-                           [&](const IgtlFrame& f) { frames.push_back(f); });
+                           [&](const IgtlFrame& f) { types.push_back(f.header.type); });
     } catch (const IoError&) {
       const std::lock_guard lock(mutex_);
       ++stats_.framing_errors;
       keep = false;
     }
   }
-  std::function<void(const IgtlFrame&)> handler;
   {
     const std::lock_guard lock(mutex_);
     const IgtlReceiverCounters& c = client.receiver.counters();
@@ -181,11 +175,7 @@ bool IgtlServer::ReadFrom(Client& client) {
     stats_.crc_errors += c.crc_errors - client.counted.crc_errors;
     stats_.malformed_v2 += c.malformed_v2 - client.counted.malformed_v2;
     client.counted = c;
-    for (const IgtlFrame& f : frames) ++stats_.received_types[f.header.type];
-    handler = handler_;
-  }
-  if (handler) {
-    for (const IgtlFrame& f : frames) handler(f);
+    for (const std::string& type : types) ++stats_.received_types[type];
   }
   return keep;
 }

@@ -4,7 +4,6 @@
 
 #include <atomic>
 #include <cstdint>
-#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -69,8 +68,6 @@ class IgtlServer {
   /// Also published to the clients connected now.
   void SetGreeting(const std::string& key, std::vector<std::uint8_t> message);
   IgtlServerStats stats() const;
-  /// Called on the I/O thread for every good received frame (optional; set before clients come).
-  void SetFrameHandler(std::function<void(const IgtlFrame&)> handler);
 
  private:
   struct Client;
@@ -85,11 +82,10 @@ class IgtlServer {
   SocketFd listener_;
   SocketFd wake_;  // eventfd
   int port_ = 0;
-  mutable std::mutex mutex_;  // guards clients_, greetings_, stats_, handler_
+  mutable std::mutex mutex_;  // guards clients_, greetings_, stats_
   std::vector<std::unique_ptr<Client>> clients_;
   std::vector<std::pair<std::string, Message>> greetings_;
   IgtlServerStats stats_;
-  std::function<void(const IgtlFrame&)> handler_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
 };

@@ -81,22 +81,6 @@ ReplayFault ParseItem(const std::string& item) {
 
 }  // namespace
 
-const char* ToString(ReplayFaultKind kind) {
-  switch (kind) {
-    case ReplayFaultKind::kDrop:
-      return "drop";
-    case ReplayFaultKind::kReset:
-      return "reset";
-    case ReplayFaultKind::kStall:
-      return "stall";
-    case ReplayFaultKind::kTruncate:
-      return "truncate";
-    case ReplayFaultKind::kRestart:
-      return "restart";
-  }
-  return "?";
-}
-
 void ReplayFaultPlan::Check() const {
   Require(mean_interval_s > 0.0, "ReplayFaultPlan.mean_interval_s must be > 0");
   for (const ReplayFault& f : faults) {

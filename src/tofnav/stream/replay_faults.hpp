@@ -18,8 +18,6 @@ enum class ReplayFaultKind {
   kTruncate,  // send part of a packet, then close
   kRestart,   // close the connection and stop listening for duration_s
 };
-/// "drop", "reset", "stall", "truncate", "restart".
-const char* ToString(ReplayFaultKind kind);
 
 struct ReplayFault {
   ReplayFaultKind kind = ReplayFaultKind::kDrop;
