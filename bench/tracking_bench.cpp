@@ -65,7 +65,7 @@ const Fixture& Frame() {
 
 void BM_FindBrightBlobs(benchmark::State& state) {
   const Fixture& f = Frame();
-  for (auto _ : state) benchmark::DoNotOptimize(FindBrightBlobs(f.frame.ab, 1280));
+  for (auto _ : state) benchmark::DoNotOptimize(FindBrightBlobs(f.frame.ab, kMarkerAbThreshold));
 }
 BENCHMARK(BM_FindBrightBlobs)->Unit(benchmark::kMicrosecond);
 

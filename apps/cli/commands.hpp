@@ -2,6 +2,10 @@
 // One RunXxx(argc, argv) per subcommand: parse, read, call one library function, write.
 #pragma once
 
+#include <string>
+#include <string_view>
+#include <vector>
+
 namespace tofnav {
 
 int RunConvert(int argc, char** argv);
@@ -21,5 +25,10 @@ int RunServe(int argc, char** argv);
 int RunTrack(int argc, char** argv);
 int RunToolDefine(int argc, char** argv);
 int RunFitMarkerError(int argc, char** argv);
+
+/// Whether `path` names a command: {"track"}, {"evaluate"}, {"evaluate", "suite"}.
+bool IsCommandPath(const std::vector<std::string>& path);
+/// Whether `tofnav evaluate <name>` exists.
+bool IsEvaluatorName(std::string_view name);
 
 }  // namespace tofnav

@@ -11,6 +11,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "progress.hpp"
 #include "tofnav/recording/hl2ss_calibration.hpp"
 #include "tofnav/recording/open_recording.hpp"
@@ -19,6 +20,7 @@ namespace tofnav {
 
 int RunConvert(int argc, char** argv) {
   CLI::App app{"Re-write an AHAT recording in another container", "tofnav convert"};
+  AddConfigOptions(app);
   std::filesystem::path input_path, output_path, calibration_path;
   std::optional<double> sample_offset_px;
   bool quiet = false, json = false;
@@ -30,16 +32,14 @@ int RunConvert(int argc, char** argv) {
   app.add_option("input", input_path, "hl2ss .bin file or StreamRecorder folder")->required();
   app.add_option("output", output_path, ".bin file (raw, zdepth) or folder (stream-recorder)")
       ->required();
-  app.add_option("--to", options.format, "output container")
-      ->required()
-      ->transform(CLI::CheckedTransformer(formats, CLI::ignore_case));
+  AddEnumOption(app, "--to", options.format, formats, "output container")->required();
   app.add_option("--calibration", calibration_path,
                  "hl2ss calibration folder, for StreamRecorder output from an hl2ss input");
   app.add_option("--sample-offset", sample_offset_px,
-                 "LUT sample offset of the calibration (0 or 0.5; default: auto rule)");
+                 "LUT sample offset of the calibration (0 or 0.5; unset: auto rule)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   if (!calibration_path.empty()) {
     options.calibration = ReadHl2ssCalibration(calibration_path, sample_offset_px);
@@ -54,7 +54,7 @@ int RunConvert(int argc, char** argv) {
                                          {"output", output_path.string()},
                                          {"frames_written", result.frames_written},
                                          {"frames_with_pose", result.frames_with_pose}};
-    std::cout << summary.dump(2) << "\n";
+    std::cout << WithOptions(summary, app).dump(2) << "\n";
     return EXIT_SUCCESS;
   }
   std::cout << "wrote " << result.frames_written << " frames (" << result.frames_with_pose

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "head_region_option.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/depth_model_json.hpp"
@@ -24,6 +25,7 @@ int RunCorrect(int argc, char** argv) {
       "Correct the range of every frame with a depth model: writes an hl2ss recording "
       "(--out X.bin, range rounded to mm) or one PLY point cloud per frame (--out DIR)",
       "tofnav correct"};
+  AddConfigOptions(app);
   std::filesystem::path recording_path, calibration_path, model_path, frf_path, out_path;
   std::optional<double> sample_offset;
   bool all_pixels = false, quiet = false;
@@ -32,7 +34,7 @@ int RunCorrect(int argc, char** argv) {
   app.add_option("--calibration", calibration_path, "hl2ss calibration folder")->required();
   app.add_option("--sample-offset", sample_offset, "calibration table sample offset (0 or 0.5)");
   app.add_option("--depth-model", model_path, "depth_model.json (tofnav identify)")->required();
-  app.add_option("--marker-error", frf_path, "f_rf JSON (default: the model file's)");
+  app.add_option("--marker-error", frf_path, "f_rf JSON (unset: the model file's)");
   app.add_option("--out", out_path, "corrected .bin recording, or a folder for PLY clouds")
       ->required();
   AddHeadRegionOption(app, options.segmentation.head_region);
@@ -40,7 +42,7 @@ int RunCorrect(int argc, char** argv) {
                  "keep only pixels this close to the markers' centroid (0 = no limit)");
   app.add_flag("--all-pixels", all_pixels, "correct every valid pixel, not only the ROI");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   const DepthModelFile model = ReadDepthModelJson(model_path);
   const AhatCamera camera(ReadHl2ssCalibration(calibration_path, sample_offset));

@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "progress.hpp"
 #include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/io/file.hpp"
@@ -22,7 +23,6 @@ namespace tofnav {
 namespace {
 
 constexpr const char* kCraniumCt = "/usr/share/doc/invesalius-examples/examples/Cranium.inv3";
-constexpr const char* kVersion = "0.1.0";  // project(tofnav VERSION ...)
 
 }  // namespace
 
@@ -90,16 +90,16 @@ int RunDemo(int argc, char** argv) {
       "depth model, reconstruction, registration, tracking and guidance, with the paper's "
       "figures beside ours (docs/demo.md)",
       "tofnav demo"};
+  AddConfigOptions(app);
   std::filesystem::path out = "tofnav-demo";
   std::string head;
   double frames_scale = 1.0;
   std::uint64_t seed = 1;
   bool json = false, quiet = false;
-  app.add_option("--out", out, "output folder (created; default ./tofnav-demo)");
-  app.add_option(
-      "--head", head,
-      std::string("patient head: phantom, mesh:<skin.ply> or ct:<volume> (default: ct:") +
-          kCraniumCt + " when installed, else phantom)");
+  app.add_option("--out", out, "output folder (created)");
+  app.add_option("--head", head,
+                 std::string("patient head: phantom, mesh:<skin.ply> or ct:<volume> (unset: ct:") +
+                     kCraniumCt + " when installed, else phantom)");
   app.add_option("--frames-scale", frames_scale,
                  "scale every stage's frame count (1: 160 stage + 600 session frames; 3+: closer "
                  "to the paper's 1000-frame sessions, slower)")
@@ -107,12 +107,12 @@ int RunDemo(int argc, char** argv) {
   app.add_option("--seed", seed, "random seed of the simulations");
   double multipath_gain = 1.0;
   app.add_option("--multipath-gain", multipath_gain,
-                 "one-bounce multipath of the simulations: 1 realism (the default), 0 off (the "
+                 "one-bounce multipath of the simulations: 1 realism, 0 off (the "
                  "friendlier conditions of the earlier figures, docs/demo.md)")
       ->check(CLI::Range(0.0, 1.0));
   app.add_flag("--json", json, "print demo.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   DemoContext ctx;
   ctx.out = out;
@@ -140,7 +140,7 @@ int RunDemo(int argc, char** argv) {
   const auto start = std::chrono::steady_clock::now();
   DemoJson demo{{"format", "tofnav-demo"},
                 {"version", 1},
-                {"tofnav_version", kVersion},
+                {"tofnav_version", TOFNAV_VERSION},
                 {"head", ctx.head},
                 {"seed", seed},
                 {"frames_scale", frames_scale},
@@ -157,6 +157,7 @@ int RunDemo(int argc, char** argv) {
   demo["elapsed_s"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   demo["paper"] = PaperFigures();
+  demo["options"] = EffectiveOptions(app);
   WriteFileAtomically(out / "demo.json", demo.dump(2) + "\n");
   try {
     WriteHtmlReport(out, out / "report.html");

@@ -34,8 +34,8 @@ void PrintUsage() {
 void SimulatedRunArgs::AddOptions(CLI::App& app, const std::string& truth_help) {
   app.add_option("recording", recording, "the simulated recording")->required();
   app.add_option("--truth", truth_dir, truth_help)->required();
-  app.add_option("--calibration", calibration, "calibration folder (default: TRUTH/calibration)");
-  app.add_option("--scenario", scenario_name, "scenario file or built-in (default: truth.json's)");
+  app.add_option("--calibration", calibration, "calibration folder (unset: TRUTH/calibration)");
+  app.add_option("--scenario", scenario_name, "scenario file or built-in (unset: truth.json's)");
   app.add_option("--max-frames", max_frames, "frames evaluated, evenly spread")
       ->check(CLI::PositiveNumber);
   app.add_flag("--json", json, "print JSON");
@@ -49,6 +49,11 @@ AhatCamera SimulatedRunArgs::Camera() const {
 
 std::unique_ptr<AhatRecording> SimulatedRunArgs::Open() const {
   return OpenAhatRecording(recording);
+}
+
+bool IsEvaluatorName(std::string_view name) {
+  return std::any_of(Evaluators().begin(), Evaluators().end(),
+                     [&](const Evaluator& e) { return e.name == name; });
 }
 
 bool RegisterEvaluator(const Evaluator& evaluator) {

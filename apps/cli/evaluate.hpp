@@ -26,7 +26,7 @@ struct Evaluator {
 bool RegisterEvaluator(const Evaluator& evaluator);
 
 /// The options every evaluator of a simulated recording shares: the recording, --truth,
-/// --calibration (default TRUTH/calibration), --scenario, --max-frames, --json, -q.
+/// --calibration (unset: TRUTH/calibration), --scenario, --max-frames, --json, -q.
 struct SimulatedRunArgs {
   std::filesystem::path recording, truth_dir, calibration;
   std::string scenario_name;

@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "evaluate.hpp"
 #include "progress.hpp"
 #include "tofnav/evaluation/depth_evaluate.hpp"
@@ -24,11 +25,12 @@ int RunEvaluateDepth(int argc, char** argv) {
       "Depth error per object before and after correction, against the simulator's "
       "truth_range_f32.bin (paper Table I layout; docs/correction.md)",
       "tofnav evaluate depth"};
+  AddConfigOptions(app);
   SimulatedRunArgs run;
   std::filesystem::path model_path;
   run.AddOptions(app, "simulator output folder (truth.json, truth_range_f32.bin)");
   app.add_option("--depth-model", model_path, "depth_model.json: also report after correction");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   const AhatCamera camera = run.Camera();
   const std::unique_ptr<AhatRecording> recording = run.Open();
@@ -57,10 +59,11 @@ int RunEvaluateDepth(int argc, char** argv) {
     rows.push_back(row);
   }
   if (json_out) {
-    std::cout << Json{{"frames", evaluation.frames},
-                      {"model", model ? model->model.Name() : ""},
-                      {"target_object", evaluation.target_object},
-                      {"objects", rows}}
+    std::cout << WithOptions(Json{{"frames", evaluation.frames},
+                                  {"model", model ? model->model.Name() : ""},
+                                  {"target_object", evaluation.target_object},
+                                  {"objects", rows}},
+                             app)
                      .dump(2)
               << "\n";
     return EXIT_SUCCESS;

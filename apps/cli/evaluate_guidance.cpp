@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "config_json.hpp"
 #include "evaluate.hpp"
 #include "tofnav/casefile/markups_read.hpp"
 #include "tofnav/evaluation/guidance_evaluate.hpp"
@@ -26,14 +27,15 @@ int RunEvaluateGuidance(int argc, char** argv) {
       "Entry-point and direction error of the plan placed by tofnav navigate, against a "
       "simulation's truth (every trajectory, every placed frame)",
       "tofnav evaluate guidance"};
+  AddConfigOptions(app);
   std::filesystem::path nav_path, truth_dir, plan_path;
   bool json = false, quiet = false;
   app.add_option("navigation", nav_path, "per-frame CSV of tofnav navigate --out")->required();
   app.add_option("--truth", truth_dir, "simulation folder (truth.json, plan.mrk.json)")->required();
-  app.add_option("--plan", plan_path, "the plan navigate used (default: TRUTH/plan.mrk.json)");
+  app.add_option("--plan", plan_path, "the plan navigate used (unset: TRUTH/plan.mrk.json)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the figures as JSON");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
   if (plan_path.empty()) plan_path = truth_dir / "plan.mrk.json";
 
   const std::vector<PlacedFrame> placed = ReadNavigationCsv(nav_path);
@@ -57,7 +59,7 @@ int RunEvaluateGuidance(int argc, char** argv) {
                                        {"entry_error_mm", StatsJson(t.entry_mm)},
                                        {"direction_error_deg", StatsJson(t.direction_deg)}});
     }
-    std::cout << out.dump(2) << "\n";
+    std::cout << WithOptions(out, app).dump(2) << "\n";
     return EXIT_SUCCESS;
   }
   std::cout << "frames " << g.frames << " (unmatched " << unmatched << "), " << plan.size()

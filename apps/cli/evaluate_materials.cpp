@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "evaluate.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
@@ -20,6 +21,7 @@
 #include "tofnav/correction/material_study.hpp"
 #include "tofnav/evaluation/truth_hits.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/recording/hl2ss_calibration.hpp"
 #include "tofnav/sensor/ahat_recording.hpp"
 
@@ -30,8 +32,8 @@ using Json = nlohmann::json;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 struct Settings {
-  double ab_threshold = 1280.0;  // AB counts: IR-tape pixels (the marker threshold)
-  int margin_px = 3;             // pixels this close to another object or a tape edge: mixed
+  double ab_threshold = kMarkerAbThreshold;  // AB counts: IR-tape pixels
+  int margin_px = 3;  // pixels this close to another object or a tape edge: mixed
   std::optional<MarkerRangeModel> frf;
 };
 
@@ -156,6 +158,7 @@ int RunEvaluateMaterials(int argc, char** argv) {
       "Depth error per material against the IR-tape reference plane (paper Sec. III-A.2) and "
       "against the simulator's truth, by depth and incidence angle (docs/correction.md)",
       "tofnav evaluate materials"};
+  AddConfigOptions(app);
   SimulatedRunArgs run;
   run.max_frames = 180;
   std::filesystem::path frf_path;
@@ -171,7 +174,7 @@ int RunEvaluateMaterials(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--angle-bin-deg", angle_bin_deg, "incidence angle bin width [deg]")
       ->check(CLI::PositiveNumber);
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   const std::filesystem::path& truth_dir = run.truth_dir;
   const bool json_out = run.json, quiet = run.quiet;
@@ -206,14 +209,16 @@ int RunEvaluateMaterials(int argc, char** argv) {
   const MaterialStudyResult result = study.Summarise();
   const Summary plane_rms_mm = SummariseDepthErrors({plane_rms.begin(), plane_rms.end()});
   if (json_out) {
-    std::cout << Json{{"frames", picked.size()},
-                      {"frames_with_plane", plane_rms.size()},
-                      {"marker_error_applied", settings.frf.has_value()},
-                      {"reference_plane_rms_mm_median", plane_rms_mm.median},
-                      {"overall", CellsJson(result.overall, names)},
-                      {"by_depth", CellsJson(result.by_depth, names)},
-                      {"by_angle", CellsJson(result.by_angle, names)},
-                      {"by_depth_and_angle", CellsJson(result.by_depth_and_angle, names)}}
+    std::cout << WithOptions(
+                     Json{{"frames", picked.size()},
+                          {"frames_with_plane", plane_rms.size()},
+                          {"marker_error_applied", settings.frf.has_value()},
+                          {"reference_plane_rms_mm_median", plane_rms_mm.median},
+                          {"overall", CellsJson(result.overall, names)},
+                          {"by_depth", CellsJson(result.by_depth, names)},
+                          {"by_angle", CellsJson(result.by_angle, names)},
+                          {"by_depth_and_angle", CellsJson(result.by_depth_and_angle, names)}},
+                     app)
                      .dump(2)
               << "\n";
     return EXIT_SUCCESS;

@@ -9,6 +9,7 @@
 #include <set>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "evaluate.hpp"
 #include "progress.hpp"
 #include "tofnav/evaluation/reconstruct_evaluate.hpp"
@@ -83,6 +84,7 @@ int RunEvaluateReconstruction(int argc, char** argv) {
       "(truth.json poses, scenario meshes): median and IQR per object in the layout of the "
       "paper's Table II (docs/reconstruction.md)",
       "tofnav evaluate reconstruction"};
+  AddConfigOptions(app);
   std::filesystem::path surface_path, truth_dir, scenario_file, colored_path;
   std::string tool_name;
   bool json = false, quiet = false;
@@ -90,17 +92,15 @@ int RunEvaluateReconstruction(int argc, char** argv) {
   app.add_option("surface", surface_path, "reconstructed surface (.ply/.stl/.obj, tool frame)")
       ->required();
   app.add_option("--truth", truth_dir, "simulation output folder (truth.json)")->required();
-  app.add_option("--tool-name", tool_name, "reference tool in truth.json (default: the only one)");
+  app.add_option("--tool-name", tool_name, "reference tool in truth.json (unset: the only one)");
   app.add_option("--scenario", scenario_file, "scenario file of a non-built-in simulation");
   app.add_option("--max-distance-mm", options.max_distance_mm,
-                 "vertices farther from every true surface are outliers")
-      ->capture_default_str();
+                 "vertices farther from every true surface are outliers");
   app.add_option("--colored", colored_path, "write the surface coloured by |error| (PLY)");
-  app.add_option("--color-scale-mm", options.color_scale_mm, "|error| shown red")
-      ->capture_default_str();
+  app.add_option("--color-scale-mm", options.color_scale_mm, "|error| shown red");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the result as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   // Three steps (read the surface, read the truth, evaluate): no finer progress is reported.
   ProgressBar progress("evaluate reconstruction", quiet || json);
@@ -126,7 +126,7 @@ int RunEvaluateReconstruction(int argc, char** argv) {
         {"surface", surface_path.string()}, {"vertices", e.vertices},
         {"outliers", e.outliers},           {"max_distance_mm", options.max_distance_mm},
         {"all", StatsJson(e.all)},          {"objects", objects}};
-    std::cout << out.dump(2) << "\n";
+    std::cout << WithOptions(out, app).dump(2) << "\n";
     return EXIT_SUCCESS;
   }
   std::printf(

@@ -8,8 +8,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <optional>
 #include <set>
 
+#include "config_json.hpp"
 #include "evaluate.hpp"
 #include "tofnav/core/statistics.hpp"
 #include "tofnav/evaluation/suite_case.hpp"
@@ -87,10 +89,11 @@ int RunEvaluateSuite(int argc, char** argv) {
       "pipeline on it as a user would, one row of figures against the truth per case "
       "(docs/suite.md)",
       "tofnav evaluate suite"};
+  AddConfigOptions(app);
   std::string suite_name;
   std::filesystem::path out = "tofnav-suite";
   std::vector<std::string> only;
-  double frames_scale = 0.0;
+  std::optional<double> frames_scale;  // unset: the suite's
   bool json = false, quiet = false;
   app.add_option("suite", suite_name, "suite file, or a built-in: default, smoke")->required();
   app.add_option("--out", out, "output folder: one folder per case, suite.json, suite.html");
@@ -99,10 +102,10 @@ int RunEvaluateSuite(int argc, char** argv) {
       ->check(CLI::Range(0.05, 20.0));
   app.add_flag("--json", json, "print suite.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no per-case progress lines on stderr");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
   const std::filesystem::path path = SuitePath(suite_name);
   const SuiteFile suite = ReadSuiteFile(path);
-  const double scale = frames_scale > 0.0 ? frames_scale : suite.frames_scale;
+  const double scale = frames_scale.value_or(suite.frames_scale);
   const std::set<std::string> wanted(only.begin(), only.end());
   for (const std::string& name : wanted) {
     if (std::none_of(suite.cases.begin(), suite.cases.end(),
@@ -138,6 +141,7 @@ int RunEvaluateSuite(int argc, char** argv) {
                    {"elapsed_s", elapsed_s},
                    {"summary", SuiteSummary(rows)},
                    {"rows", rows}};
+  result["options"] = EffectiveOptions(app);
   WriteFileAtomically(out / "suite.json", result.dump(2) + "\n");
   WriteSuiteHtml(out / "suite.json", out / "suite.html");
   if (json) {

@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 
+#include "config_json.hpp"
 #include "evaluate.hpp"
 #include "tofnav/casefile/tool_poses_io.hpp"
 #include "tofnav/evaluation/tracking_truth.hpp"
@@ -83,6 +84,7 @@ void PrintText(const std::string& name, const ToolEvaluation& e) {
 int RunEvaluateTracking(int argc, char** argv) {
   CLI::App app{"Tracking accuracy of a poses file (tofnav track) against a simulation's truth.json",
                "tofnav evaluate tracking"};
+  AddConfigOptions(app);
   std::filesystem::path poses_path, truth_path;
   bool json = false;
   int min_pixels = 4;
@@ -91,14 +93,13 @@ int RunEvaluateTracking(int argc, char** argv) {
   app.add_option("poses", poses_path, "poses file (CSV or JSON) from tofnav track")->required();
   app.add_option("--truth", truth_path, "truth.json of the simulation")->required();
   app.add_option("--wrong-mm", options.wrong_translation_mm,
-                 "a pose farther than this from the truth is a wrong identity [mm] (10)");
-  app.add_option("--wrong-deg", wrong_deg, "... or turned by more than this [deg] (10)");
-  app.add_option("--min-marker-pixels", min_pixels,
-                 "pixels a marker needs to count as visible (4)");
+                 "a pose farther than this from the truth is a wrong identity [mm]");
+  app.add_option("--wrong-deg", wrong_deg, "... or turned by more than this [deg]");
+  app.add_option("--min-marker-pixels", min_pixels, "pixels a marker needs to count as visible");
   app.add_option("--jitter-warmup", options.jitter_warmup_frames,
-                 "frames dropped at the start of each static run (20)");
+                 "frames dropped at the start of each static run");
   app.add_flag("--json", json, "print the figures as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
   options.wrong_rotation_rad = wrong_deg * kDegToRad;
 
   const std::vector<ToolPoseRecord> records = ReadToolPoses(poses_path);
@@ -118,7 +119,7 @@ int RunEvaluateTracking(int argc, char** argv) {
   }
   if (json) {
     out["wrong_identities"] = wrong;
-    std::cout << out.dump(2) << "\n";
+    std::cout << WithOptions(out, app).dump(2) << "\n";
   } else {
     std::cout << "wrong identities over all tools: " << wrong << "\n";
   }

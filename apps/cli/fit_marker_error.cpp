@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "marker_source.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
@@ -24,6 +25,7 @@ int RunFitMarkerError(int argc, char** argv) {
       "structure on a linear stage: reference from the structure's pose, a line over "
       "time, a csaps smoothing spline (docs/tracking.md)",
       "tofnav fit-marker-error"};
+  AddConfigOptions(app);
   std::vector<std::filesystem::path> recordings;
   MarkerSourceArgs source_args;
   std::filesystem::path tool_path, out_path;
@@ -40,13 +42,14 @@ int RunFitMarkerError(int argc, char** argv) {
   app.add_option("--speed-mm-s", speed_mm_s,
                  "the stage's commanded speed [mm/s]: the reference line moves at it (only its "
                  "origin is fitted); runs whose fitted speed differs by > 10 % drop");
-  app.add_option("--smoothing", smoothing, "csaps p in [0, 1], or 'gcv' (default)");
+  app.add_option("--smoothing", smoothing,
+                 "csaps p in [0, 1], or 'gcv' (generalised cross-validation)");
   app.add_option("--split-jump-mm", jump_mm,
-                 "a structure jump larger than this between frames starts a new run [mm] (20)");
-  app.add_option("--min-frames", stage_options.min_frames, "posed frames a run needs (10)");
+                 "a structure jump larger than this between frames starts a new run [mm]");
+  app.add_option("--min-frames", stage_options.min_frames, "posed frames a run needs");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   SmoothingSplineOptions spline_options;
   if (smoothing != "gcv") {
@@ -102,7 +105,7 @@ int RunFitMarkerError(int argc, char** argv) {
                       {"f_rf_mm", curve},
                       {"runs", runs_json}};
   if (json) {
-    std::cout << summary.dump(2) << "\n";
+    std::cout << WithOptions(summary, app).dump(2) << "\n";
     return EXIT_SUCCESS;
   }
   std::cout << "f_rf from " << samples.size() << " samples of " << frames_used << " frames: p "

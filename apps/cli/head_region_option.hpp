@@ -16,8 +16,9 @@ inline CLI::Option* AddHeadRegionOption(CLI::App& app, HeadRegionOptions& option
       .add_option_function<std::string>(
           "--head-region", [&options](const std::string& v) { options.enabled = v == "auto"; },
           "auto: only the automatic head region (drops the headframe board, tool plates and "
-          "fragments); off: every valid pixel [default: auto]")
-      ->check(CLI::IsMember({"auto", "off"}));
+          "fragments); off: every valid pixel")
+      ->check(CLI::IsMember({"auto", "off"}))
+      ->default_str(options.enabled ? "auto" : "off");
 }
 
 }  // namespace tofnav

@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "head_region_option.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/depth_model_json.hpp"
@@ -48,6 +49,7 @@ int RunIdentify(int argc, char** argv) {
       "Identify the patient-specific depth-error model (paper Eq. 3-7) from a recording "
       "of the head with stick-on markers (docs/correction.md)",
       "tofnav identify"};
+  AddConfigOptions(app);
   std::filesystem::path recording_path, calibration_path, ct_path, skin_path, frf_path, out_path;
   std::optional<double> sample_offset;
   int max_frames = 300, folds = 0;
@@ -63,15 +65,15 @@ int RunIdentify(int argc, char** argv) {
   auto* ct = app.add_option("--ct", ct_path, "pre-operative CT (NRRD, NIfTI, DICOM): Err_C");
   app.add_option("--skin", skin_path, "CT skin surface (PLY/STL/OBJ, image frame): Err_C")
       ->excludes(ct);
-  app.add_option("--ct-skin-hu", iso_hu,
-                 "skin threshold [HU] (with --ct; default: as tofnav skin)");
+  app.add_option("--ct-skin-hu", iso_hu, "skin threshold [HU] (with --ct; unset: as tofnav skin)");
   app.add_option("--marker-error", frf_path, "f_rf JSON (Eq. 1) for marker pixels");
   app.add_option("--out", out_path, "depth_model.json to write")->required();
   app.add_option("--max-frames", max_frames, "frames used, evenly spread")
       ->check(CLI::PositiveNumber);
   app.add_option("--model", angle_term, "angle term: theta (paper), theta2, 1-cos");
   std::vector<double> start_values;
-  app.add_option("--start", start_values, "start values C1 C2 C3 [C4] (default 0)")->expected(3, 4);
+  app.add_option("--start", start_values, "start values C1 C2 C3 [C4] (unset: all 0)")
+      ->expected(3, 4);
   app.add_flag("--intensity", intensity, "add the AB term C4 ln(AB_ref / AB)");
   app.add_option("--cross-validate", folds, "compare the model variants on K held-out blocks");
   app.add_option("--roi-radius-mm", sampling.segmentation.roi_radius_mm,
@@ -92,16 +94,14 @@ int RunIdentify(int argc, char** argv) {
   app.add_option("--multipath", multipath,
                  "remove one-bounce multipath before the fit (and, through the model file, before "
                  "every correction with it): on or off (docs/correction.md 7)")
-      ->check(CLI::IsMember({"on", "off"}))
-      ->capture_default_str();
+      ->check(CLI::IsMember({"on", "off"}));
   app.add_option(
          "--ab-scale", sampling.multipath.ab_scale,
          "the illuminator's AB of an albedo-1 surface facing the camera at 1 m [counts m^2]")
-      ->check(CLI::PositiveNumber)
-      ->capture_default_str();
+      ->check(CLI::PositiveNumber);
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the result as JSON");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
   sampling.multipath.enabled = multipath == "on";
 
   const AhatCamera camera(ReadHl2ssCalibration(calibration_path, sample_offset));
@@ -130,7 +130,8 @@ int RunIdentify(int argc, char** argv) {
       *recording, camera, frf, skin ? &*skin : nullptr, identify,
       [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
   const DepthModelFile& file = result.file;
-  WriteDepthModelJson(out_path, file);
+  const nlohmann::ordered_json effective_options = EffectiveOptions(app);
+  WriteDepthModelJson(out_path, file, &effective_options);
   nlohmann::ordered_json registration_report;
   if (result.reference_frame) {
     registration_report = {{"reference_frame", *result.reference_frame},
@@ -158,7 +159,7 @@ int RunIdentify(int argc, char** argv) {
     for (const auto& [name, cost] : m.report.cross_validation) {
       out["cross_validation"][name] = cost;
     }
-    std::cout << out.dump(2) << "\n";
+    std::cout << WithOptions(out, app).dump(2) << "\n";
     return EXIT_SUCCESS;
   }
   std::cout << "model " << m.Name() << " (" << m.report.costs << ", " << m.report.frames_used

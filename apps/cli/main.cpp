@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav command line: a table of subcommands and one try/catch.
+#include <algorithm>
 #include <cstdlib>
 #include <exception>
 #include <iostream>
@@ -47,13 +48,25 @@ constexpr Command kCommands[] = {
 };
 
 void PrintUsage() {
-  std::cout << "usage: tofnav <subcommand> [options]   (tofnav <subcommand> --help)\n\n";
+  std::cout << "usage: tofnav <subcommand> [options]   (tofnav <subcommand> --help; "
+               "tofnav --version)\n\n";
   for (const Command& c : kCommands) std::cout << "  " << c.name << "\t" << c.summary << "\n";
 }
 
 }  // namespace
 
+bool tofnav::IsCommandPath(const std::vector<std::string>& path) {
+  const auto named = [&](const Command& c) { return !path.empty() && c.name == path[0]; };
+  if (std::none_of(std::begin(kCommands), std::end(kCommands), named)) return false;
+  return path.size() == 1 ||
+         (path.size() == 2 && path[0] == "evaluate" && IsEvaluatorName(path[1]));
+}
+
 int main(int argc, char** argv) {
+  if (argc == 2 && std::string_view(argv[1]) == "--version") {
+    std::cout << "tofnav " << TOFNAV_VERSION << "\n";  // project(tofnav VERSION ...)
+    return EXIT_SUCCESS;
+  }
   if (argc < 2 || std::string_view(argv[1]) == "--help" || std::string_view(argv[1]) == "-h") {
     PrintUsage();
     return argc < 2 ? EXIT_FAILURE : EXIT_SUCCESS;

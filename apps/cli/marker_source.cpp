@@ -16,10 +16,10 @@ void MarkerSourceArgs::AddTo(CLI::App& app, bool with_recording) {
   app.add_option("--calibration", calibration,
                  "hl2ss calibration folder (required for hl2ss recordings)");
   app.add_option("--sample-offset", sample_offset_px,
-                 "LUT sample offset of the calibration (0 or 0.5; default: auto rule)");
+                 "LUT sample offset of the calibration (0 or 0.5; unset: auto rule)");
   app.add_option("--frames", frames, "process only the first N frames")->check(CLI::PositiveNumber);
   app.add_option("--ab-threshold", detection.ab_threshold,
-                 "AB threshold of marker pixels [counts] (default 1280)");
+                 "AB threshold of marker pixels [counts]");
   app.add_option("--relative-threshold", detection.relative_threshold,
                  "adaptive threshold factor over the 99.9th AB percentile (0 = off)");
 }

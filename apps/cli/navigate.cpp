@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "navigate_live.hpp"
 #include "stop_signal.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
@@ -84,7 +85,9 @@ void PrintDropped(const NavigationSessionStats& stats) {
 int RunNavigate(int argc, char** argv) {
   CLI::App app{
       "Intra-operative navigation: track the headframe, place the plan (Eq. 8), stream "
-      "to 3D Slicer over OpenIGTLink"};
+      "to 3D Slicer over OpenIGTLink",
+      "tofnav navigate"};
+  AddConfigOptions(app);
   std::string input;
   std::filesystem::path calibration, tool_path, registration, plan_path, instrument_path, out;
   std::filesystem::path marker_error_path;
@@ -96,7 +99,7 @@ int RunNavigate(int argc, char** argv) {
   std::optional<double> sample_offset;
   LiveLinkOptions link;
   app.add_option("input", input,
-                 "hl2ss recording (.bin), StreamRecorder folder, or hl2ss://HOST[:PORT]")
+                 "hl2ss recording (.bin), StreamRecorder folder, or hl2ss://HOST[:PORT] (3816)")
       ->required();
   app.add_option("--calibration", calibration,
                  "hl2ss calibration folder (live: Mode 2 when absent)");
@@ -131,7 +134,7 @@ int RunNavigate(int argc, char** argv) {
   bool no_pose_check = false;
   app.add_flag("--no-pose-check", no_pose_check,
                "use every reference pose (no check against its recent world poses)");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
   navigator_options.check_pose_jumps = !no_pose_check;
   HeadsetDisplayOptions headset;
   if (!hololens.empty()) std::tie(headset.host, headset.port) = ParseRemoteSceneEndpoint(hololens);
@@ -281,7 +284,7 @@ int RunNavigate(int argc, char** argv) {
                            {"last_error", h.last_error}};
   }
   if (json) {
-    std::cout << summary.dump(2) << "\n";
+    std::cout << WithOptions(summary, app).dump(2) << "\n";
   } else if (!quiet) {
     std::cout << "navigated " << stats.frames << " frames: " << stats.tracking << " tracking, "
               << stats.holding << " holding, " << stats.reference_lost << " reference lost, "

@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "marker_source.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
@@ -22,6 +23,7 @@ int RunPivot(int argc, char** argv) {
       "Pivot calibration: the instrument's tip (in its marker frame) from a recording in which "
       "the tip rests in a divot rigid with the reference while the instrument swings about it",
       "tofnav pivot"};
+  AddConfigOptions(app);
   MarkerSourceArgs source_args;
   std::filesystem::path instrument_path, reference_path, marker_error_path, out_path;
   double min_range_deg = 30.0;
@@ -39,7 +41,7 @@ int RunPivot(int argc, char** argv) {
       ->check(CLI::Range(0.0, 180.0));
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the result as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   ToolGeometry instrument = ReadToolFile(instrument_path);
   const ToolGeometry reference = ReadToolFile(reference_path);
@@ -83,7 +85,7 @@ int RunPivot(int argc, char** argv) {
     summary["out"] = out_path.string();
   }
   if (json) {
-    std::cout << summary.dump(2) << "\n";
+    std::cout << WithOptions(summary, app).dump(2) << "\n";
   } else {
     std::cout << "pivot calibration of '" << instrument.name << "' against '" << reference.name
               << "': " << result.poses << " poses of " << source.frames << " frames, "

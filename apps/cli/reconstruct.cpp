@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "head_region_option.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/depth_model_json.hpp"
@@ -42,6 +43,7 @@ int RunReconstruct(int argc, char** argv) {
       "Fuse a recording's AHAT frames, posed by the tracked reference tool, into a TSDF in the "
       "tool frame and extract the surface as PLY (docs/reconstruction.md)",
       "tofnav reconstruct"};
+  AddConfigOptions(app);
   std::filesystem::path recording_path, calibration_dir, tool_path, out_path, depth_model_path,
       marker_error_path;
   std::optional<double> sample_offset;
@@ -55,7 +57,7 @@ int RunReconstruct(int argc, char** argv) {
       {"constant", TsdfWeighting::kConstant}, {"incidence", TsdfWeighting::kIncidence}};
   app.add_option("recording", recording_path, "hl2ss .bin or StreamRecorder folder")->required();
   app.add_option("--calibration", calibration_dir,
-                 "hl2ss calibration folder (default: the recording's own, StreamRecorder)");
+                 "hl2ss calibration folder (unset: the recording's own, StreamRecorder)");
   app.add_option("--sample-offset", sample_offset, "calibration table sample offset (0 or 0.5)");
   app.add_option("--tool", tool_path, "reference tool JSON (the fusion frame)")->required();
   app.add_option("--out", out_path, "output surface (.ply, .stl or .obj), in the tool frame")
@@ -66,35 +68,27 @@ int RunReconstruct(int argc, char** argv) {
   app.add_option("--max-incidence-deg", max_incidence_deg,
                  "with --depth-model: drop pixels seen at a larger incidence (their Eq. (4) term "
                  "C3 theta rests on the least reliable normals)")
-      ->check(CLI::Range(1.0, 90.0))
-      ->capture_default_str();
+      ->check(CLI::Range(1.0, 90.0));
   app.add_option("--normal-smoothing-px", correct.normals.smoothing_radius_px,
-                 "with --depth-model: range smoothing radius for the normals")
-      ->capture_default_str();
+                 "with --depth-model: range smoothing radius for the normals");
   app.add_option("--marker-error", marker_error_path,
                  "f_rf JSON: correct the tool's marker ranges by Eq. (2) for tracking");
   app.add_option("--roi", roi,
                  "region of interest in the tool frame: xmin,ymin,zmin,xmax,ymax,zmax")
       ->delimiter(',')
       ->expected(6);
-  app.add_option("--voxel-mm", options.tsdf.voxel_size_mm, "voxel size [mm]")
-      ->capture_default_str();
-  app.add_option("--truncation-vox", options.tsdf.truncation_vox, "truncation [voxels]")
-      ->capture_default_str();
-  app.add_option("--max-weight", options.tsdf.max_weight, "running-average weight cap")
-      ->capture_default_str();
-  app.add_option("--weighting", options.tsdf.weighting, "constant or incidence")
-      ->transform(CLI::CheckedTransformer(weightings, CLI::ignore_case));
+  app.add_option("--voxel-mm", options.tsdf.voxel_size_mm, "voxel size [mm]");
+  app.add_option("--truncation-vox", options.tsdf.truncation_vox, "truncation [voxels]");
+  app.add_option("--max-weight", options.tsdf.max_weight, "running-average weight cap");
+  AddEnumOption(app, "--weighting", options.tsdf.weighting, weightings, "constant or incidence");
   app.add_option("--ab-weight-reference", options.ab_weight_reference,
-                 "weigh pixels by min(1, (AB / this)^2); 0 = off")
-      ->capture_default_str();
+                 "weigh pixels by min(1, (AB / this)^2); 0 = off");
   app.add_option("--min-weight", options.mesh.min_weight,
-                 "mesh only cells whose corners weigh more than this")
-      ->capture_default_str();
-  app.add_option("--min-range-mm", options.tsdf.min_range_mm)->capture_default_str();
-  app.add_option("--max-range-mm", options.tsdf.max_range_mm)->capture_default_str();
-  app.add_option("--first-frame", options.first_frame)->capture_default_str();
-  app.add_option("--every", options.frame_step, "fuse every n-th frame")->capture_default_str();
+                 "mesh only cells whose corners weigh more than this");
+  app.add_option("--min-range-mm", options.tsdf.min_range_mm);
+  app.add_option("--max-range-mm", options.tsdf.max_range_mm);
+  app.add_option("--first-frame", options.first_frame);
+  app.add_option("--every", options.frame_step, "fuse every n-th frame");
   app.add_option("--max-frames", max_frames, "consider at most N frames (after --every)");
   app.add_flag("--all-components", all_components, "keep every connected component");
   bool all_markers = false;
@@ -110,21 +104,17 @@ int RunReconstruct(int argc, char** argv) {
   app.add_flag("--no-pose-check", no_pose_check,
                "keep frames whose world_from_tool jumps relative to their neighbours");
   app.add_option("--model-min-weight", options.model_check.min_model_weight,
-                 "checks: a voxel is part of the model from this accumulated weight")
-      ->capture_default_str();
+                 "checks: a voxel is part of the model from this accumulated weight");
   app.add_option("--gate-mm", options.model_check.gate_mm,
-                 "checks: pixels farther than this from a well-observed surface are dropped [mm]")
-      ->capture_default_str();
+                 "checks: pixels farther than this from a well-observed surface are dropped [mm]");
   double max_jump_deg = options.pose_consistency.max_rotation_rad * 180.0 / std::numbers::pi;
   app.add_option("--max-pose-jump-mm", options.pose_consistency.max_translation_mm,
-                 "temporal check: largest distance of world_from_tool to its neighbours' median")
-      ->capture_default_str();
-  app.add_option("--max-pose-jump-deg", max_jump_deg, "the same for rotation [deg]")
-      ->capture_default_str();
+                 "temporal check: largest distance of world_from_tool to its neighbours' median");
+  app.add_option("--max-pose-jump-deg", max_jump_deg, "the same for rotation [deg]");
   AddHeadRegionOption(app, options.head_region);
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   if (!roi.empty()) options.tsdf.roi_in_tool = RoiFromList(roi);
   options.max_frames = max_frames;
@@ -201,7 +191,7 @@ int RunReconstruct(int argc, char** argv) {
         {"mesh_s", r.mesh_s},
         {"elapsed_s", r.total_s},
         {"frames_per_s", rate}};
-    std::cout << summary.dump(2) << "\n";
+    std::cout << WithOptions(summary, app).dump(2) << "\n";
     return EXIT_SUCCESS;
   }
   std::cout << "fused " << r.frames_fused << " of " << r.frames_considered << " frames ("

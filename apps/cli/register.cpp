@@ -9,6 +9,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/markups_read.hpp"
 #include "tofnav/casefile/transform_io.hpp"
@@ -109,6 +110,7 @@ int RunRegister(int argc, char** argv) {
       "tool_from_image, refuses (exit 2) when the quality is below the thresholds "
       "(docs/registration.md)",
       "tofnav register"};
+  AddConfigOptions(app);
   std::filesystem::path reconstruction_path, skin_path, out_path, plan_path, tfm_path, txt_path;
   std::vector<std::filesystem::path> fiducials;
   std::filesystem::path guess_path;
@@ -129,17 +131,17 @@ int RunRegister(int argc, char** argv) {
       ->expected(2);
   app.add_option("--guess", guess_path, "a tool_from_image transform file to start from");
   app.add_flag("--skin-ras", skin_ras, "the skin file is in RAS (tofnav skin --ras)");
-  app.add_option("--max-rmse", t.max_rmse_mm, "refuse above this RMSE [mm] (0.8)");
-  app.add_option("--min-inliers", t.min_inlier_fraction, "refuse below this inlier fraction (0.5)");
+  app.add_option("--max-rmse", t.max_rmse_mm, "refuse above this RMSE [mm]");
+  app.add_option("--min-inliers", t.min_inlier_fraction, "refuse below this inlier fraction");
   app.add_option("--min-conditioning", t.min_rotation_conditioning,
-                 "refuse below this rotation conditioning (0.005)");
-  app.add_option("--max-tre", t.max_predicted_tre_mm, "refuse above this predicted TRE [mm] (1)");
-  app.add_option("--max-ambiguity", t.max_ambiguity, "refuse above this cost ratio (0.7)");
-  app.add_option("--max-fre", max_fre_mm, "paired points: refuse above this FRE [mm] (2)");
+                 "refuse below this rotation conditioning");
+  app.add_option("--max-tre", t.max_predicted_tre_mm, "refuse above this predicted TRE [mm]");
+  app.add_option("--max-ambiguity", t.max_ambiguity, "refuse above this cost ratio");
+  app.add_option("--max-fre", max_fre_mm, "paired points: refuse above this FRE [mm]");
   app.add_flag("--force", force, "write the transform even when refused (status in the JSON)");
   app.add_flag("-q,--quiet", quiet, "no progress bar, no report");
   app.add_flag("--json", json, "print the report as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   const bool surfaces = !reconstruction_path.empty() && !skin_path.empty();
   if (!surfaces && fiducials.empty()) {
@@ -201,7 +203,7 @@ int RunRegister(int argc, char** argv) {
     for (const auto& [name, tre] : report.target_tre_mm) {
       out["targets"].push_back({{"name", name}, {"predicted_tre_mm", tre}});
     }
-    std::cout << out.dump(2) << "\n";
+    std::cout << WithOptions(out, app).dump(2) << "\n";
   } else if (!quiet) {
     std::cout << report.method << " registration " << (report.accepted ? "accepted" : "REFUSED")
               << " (" << report.status << "): " << report.message << " [" << elapsed_s << " s]\n";

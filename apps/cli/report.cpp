@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 
 namespace tofnav {
 
@@ -18,20 +19,20 @@ int RunReport(int argc, char** argv) {
       "Write the evaluation report of a `tofnav demo --out DIR` directory: one self-contained "
       "HTML page with the paper's tables beside ours and the figures (docs/report.md)",
       "tofnav report"};
+  AddConfigOptions(app);
   std::filesystem::path demo_dir, out_path;
   ReportOptions options;
   bool quiet = false, json = false;
   app.add_option("dir", demo_dir, "demo output directory (holds demo.json)")->required();
-  app.add_option("--out", out_path, "output HTML file (default: DIR/report.html)");
-  app.add_option("--render-size", options.render_size_px,
-                 "side of each mesh rendering [px] (default 320)")
+  app.add_option("--out", out_path, "output HTML file (unset: DIR/report.html)");
+  app.add_option("--render-size", options.render_size_px, "side of each mesh rendering [px]")
       ->check(CLI::Range(64, 2048));
   app.add_option("--error-max", options.error_max_mm,
-                 "top of the error colour scale [mm] (default 0: the 95th percentile)")
+                 "top of the error colour scale [mm] (0: the 95th percentile)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("-q,--quiet", quiet, "no summary");
   app.add_flag("--json", json, "print the summary as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   if (out_path.empty()) out_path = demo_dir / "report.html";
   const auto start = std::chrono::steady_clock::now();
@@ -40,10 +41,11 @@ int RunReport(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const auto bytes = std::filesystem::file_size(out_path);
   if (json) {
-    std::cout << nlohmann::ordered_json{{"dir", demo_dir.string()},
-                                        {"out", out_path.string()},
-                                        {"bytes", bytes},
-                                        {"elapsed_s", elapsed_s}}
+    std::cout << WithOptions(nlohmann::ordered_json{{"dir", demo_dir.string()},
+                                                    {"out", out_path.string()},
+                                                    {"bytes", bytes},
+                                                    {"elapsed_s", elapsed_s}},
+                             app)
                      .dump()
               << "\n";
   } else if (!quiet) {

@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "stop_signal.hpp"
 #include "tofnav/stream/hl2ss_replay_server.hpp"
 
@@ -17,7 +18,9 @@ namespace tofnav {
 int RunServe(int argc, char** argv) {
   CLI::App app{
       "Serve an hl2ss AHAT recording like the headset does (port 3804), optionally with "
-      "faults: dropped, reset, stalled or truncated streams and server restarts"};
+      "faults: dropped, reset, stalled or truncated streams and server restarts",
+      "tofnav serve"};
+  AddConfigOptions(app);
   std::filesystem::path recording, calibration;
   Hl2ssReplayOptions options{.port = 3804, .loop = true};
   std::string faults;
@@ -25,7 +28,7 @@ int RunServe(int argc, char** argv) {
   bool once = false, fast = false, quiet = false, json = false;
   app.add_option("recording", recording, "hl2ss AHAT recording (.bin)")->required();
   app.add_option("--calibration", calibration,
-                 "hl2ss calibration folder (default: 'calibration' beside the recording)");
+                 "hl2ss calibration folder (unset: 'calibration' beside the recording)");
   app.add_option("--port", options.port, "port to listen on (hl2ss AHAT: 3804)");
   app.add_option("--bind", options.bind_address, "address to listen on (0.0.0.0: every interface)");
   app.add_option("--faults", faults,
@@ -35,11 +38,11 @@ int RunServe(int argc, char** argv) {
                  "mean time between faults drawn at random [s]");
   app.add_option("--seed", options.faults.seed, "seed of the random faults");
   app.add_flag("--once", once, "each connection plays the recording once from its start");
-  app.add_flag("--fast", fast, "send as fast as the client reads (default: the recorded pace)");
+  app.add_flag("--fast", fast, "send as fast as the client reads (else the recorded pace)");
   app.add_option("--duration-s", duration_s, "stop after this wall time [s] (0: on Ctrl-C)");
   app.add_flag("-q,--quiet", quiet, "no event lines");
   app.add_flag("--json", json, "print the counts as JSON at the end");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
   if (calibration.empty()) calibration = recording.parent_path() / "calibration";
   if (!faults.empty()) options.faults.faults = ParseReplayFaults(faults);
   options.loop = !once;
@@ -67,12 +70,13 @@ int RunServe(int argc, char** argv) {
   }
   const Hl2ssReplayStats s = server.stats();
   if (json) {
-    std::cout << nlohmann::ordered_json{{"connections", s.connections},
-                                        {"calibrations_sent", s.calibrations_sent},
-                                        {"streams", s.streams},
-                                        {"refused", s.refused},
-                                        {"packets_sent", s.packets_sent},
-                                        {"faults", s.faults}}
+    std::cout << WithOptions(nlohmann::ordered_json{{"connections", s.connections},
+                                                    {"calibrations_sent", s.calibrations_sent},
+                                                    {"streams", s.streams},
+                                                    {"refused", s.refused},
+                                                    {"packets_sent", s.packets_sent},
+                                                    {"faults", s.faults}},
+                             app)
                      .dump(2)
               << "\n";
   } else if (!quiet) {

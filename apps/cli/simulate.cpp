@@ -12,6 +12,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "progress.hpp"
 #include "tofnav/scenario/patient_head.hpp"
 #include "tofnav/scenario/scenario_json.hpp"
@@ -24,6 +25,7 @@ int RunSimulate(int argc, char** argv) {
       "Render a scenario (a JSON file or a built-in name) into an hl2ss AHAT recording, "
       "its calibration folder and ground truth (docs/simulator.md)",
       "tofnav simulate"};
+  AddConfigOptions(app);
   std::string scenario_name;
   std::filesystem::path out_dir;
   std::optional<std::int64_t> frames;
@@ -39,15 +41,15 @@ int RunSimulate(int argc, char** argv) {
                  "patient head of a built-in scenario: phantom, mesh:<skin.ply> or ct:<volume> "
                  "(e.g. ct:/usr/share/doc/invesalius-examples/examples/Cranium.inv3)");
   app.add_option("--frames", frames, "render only the first N frames")->check(CLI::PositiveNumber);
-  app.add_option("--seed", seed, "random seed (default: the scenario's)");
-  app.add_option("--profile", options.profile, "depth profile of the recording: raw or zdepth")
-      ->transform(CLI::CheckedTransformer(profiles, CLI::ignore_case));
+  app.add_option("--seed", seed, "random seed (unset: the scenario's)");
+  AddEnumOption(app, "--profile", options.profile, profiles,
+                "depth profile of the recording: raw or zdepth");
   app.add_flag("--truth-depth", options.truth_depth,
                "also write truth_range_f32.bin (true first-hit range per pixel, float32 mm)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
   app.add_flag("--list", list, "list the built-in scenarios and exit");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   if (list) {
     for (const std::string& name : sim::BuiltinScenarioNames()) {
@@ -97,7 +99,7 @@ int RunSimulate(int argc, char** argv) {
                                    {"files", nlohmann::ordered_json::array()}};
     for (const std::filesystem::path& f : result.files) summary["files"].push_back(f.string());
     summary["warnings"] = result.warnings;
-    std::cout << summary.dump(2) << "\n";
+    std::cout << WithOptions(summary, app).dump(2) << "\n";
     return EXIT_SUCCESS;
   }
   std::cout << "wrote " << result.frames << " frames of '" << name << "' (" << result.dropped_slots

@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "progress.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
@@ -23,6 +24,7 @@ int RunSkin(int argc, char** argv) {
       "Extract the outer skin surface of a head volume (NRRD, NIfTI, DICOM folder, "
       ".inv3) as a mesh in LPS mm (docs/registration.md)",
       "tofnav skin"};
+  AddConfigOptions(app);
   std::filesystem::path volume_path, out_path;
   std::optional<double> threshold;
   bool ras = false, all_components = false, keep_cavities = false, quiet = false, json = false;
@@ -31,24 +33,23 @@ int RunSkin(int argc, char** argv) {
       ->required();
   app.add_option("--out", out_path, "output mesh (.ply, .stl or .obj)")->required();
   app.add_option("--threshold", threshold,
-                 "iso value in the volume's unit (default: -300 HU for CT, Otsu for MR)");
-  app.add_option("--smooth", options.smoothing_iterations, "Taubin smoothing passes (default 0)")
+                 "iso value in the volume's unit (unset: -300 HU for CT, Otsu for MR)");
+  app.add_option("--smooth", options.smoothing_iterations, "Taubin smoothing passes")
       ->check(CLI::NonNegativeNumber);
-  app.add_option("--decimate", options.decimation_cell_mm,
-                 "vertex clustering cell [mm] (default 0: off)")
+  app.add_option("--decimate", options.decimation_cell_mm, "vertex clustering cell [mm] (0: off)")
       ->check(CLI::NonNegativeNumber);
   app.add_option("--opening", options.opening_radius_mm,
                  "radius [mm] of the ball that must pass an opening for the air behind it to "
-                 "count as outside (default 4; 0: off)")
+                 "count as outside (0: off)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--ras", ras, "write RAS coordinates (3D Slicer's world) instead of LPS");
   app.add_flag("--all-components", all_components,
-               "mesh every component above the threshold (default: the largest only)");
+               "mesh every component above the threshold (else the largest only)");
   app.add_flag("--keep-cavities", keep_cavities,
                "do not fill airways, sinuses and the air behind narrow openings (--opening)");
   app.add_flag("-q,--quiet", quiet, "no progress bar, no summary");
   app.add_flag("--json", json, "print the summary as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   options.threshold = threshold;
   options.keep_largest_component = !all_components;
@@ -89,7 +90,7 @@ int RunSkin(int argc, char** argv) {
                                          {"area_mm2", skin.mesh.SurfaceAreaMm2()},
                                          {"read_s", read_s},
                                          {"extract_s", extract_s}};
-    std::cout << summary.dump(2) << "\n";
+    std::cout << WithOptions(summary, app).dump(2) << "\n";
   } else if (!quiet) {
     std::cout << "skin of " << volume_path.string() << " at " << skin.threshold << " ("
               << skin.threshold_source << "): " << skin.mesh.vertices.size() << " vertices, "

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "marker_source.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
@@ -22,6 +23,7 @@ int RunToolDefine(int argc, char** argv) {
       "Build a tool's marker geometry (tool JSON) from a recording of the tool alone, "
       "static or moving; flickering markers and stray blobs are tolerated",
       "tofnav tool-define"};
+  AddConfigOptions(app);
   MarkerSourceArgs source_args;
   std::filesystem::path out_path, marker_error_path;
   std::vector<std::filesystem::path> other_paths;
@@ -31,19 +33,18 @@ int RunToolDefine(int argc, char** argv) {
                                                    {"flat", MarkerType::kDisc}};
   source_args.AddTo(app);
   app.add_option("--out", out_path, "tool JSON to write")->required();
-  app.add_option("--name", options.name, "tool name (default 'tool')");
-  app.add_option("--marker-type", options.marker_type, "sphere (default) or flat")
-      ->transform(CLI::CheckedTransformer(types, CLI::ignore_case));
-  app.add_option("--marker-diameter", options.marker_diameter_mm, "marker diameter [mm] (11.5)");
+  app.add_option("--name", options.name, "tool name");
+  AddEnumOption(app, "--marker-type", options.marker_type, types, "sphere or flat");
+  app.add_option("--marker-diameter", options.marker_diameter_mm, "marker diameter [mm]");
   app.add_option("--markers", options.marker_count,
-                 "marker count (default: the most frequent detection count)");
-  app.add_option("--min-frames", options.min_frames, "frames that must match (20)");
+                 "marker count (unset: the most frequent detection count)");
+  app.add_option("--min-frames", options.min_frames, "frames that must match");
   app.add_option("--marker-error", marker_error_path, "f_rf curve applied to marker ranges");
   app.add_option("--other", other_paths,
                  "existing tool file(s) to compare with (minimum segment-length difference)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the report as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   std::vector<ToolGeometry> others;
   for (const std::filesystem::path& p : other_paths) others.push_back(ReadToolFile(p));
@@ -83,7 +84,7 @@ int RunToolDefine(int argc, char** argv) {
                            {"confusion_fre_mm", report.confusion_fre_mm[o]}});
   }
   if (json) {
-    std::cout << j.dump(2) << "\n";
+    std::cout << WithOptions(j, app).dump(2) << "\n";
     return EXIT_SUCCESS;
   }
   std::cout << "defined '" << result.tool.name << "' (" << result.tool.markers_in_tool.size()

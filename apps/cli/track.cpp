@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "commands.hpp"
+#include "config_json.hpp"
 #include "marker_source.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
@@ -80,6 +81,7 @@ int RunTrack(int argc, char** argv) {
       "Track retro-reflective tools in an AHAT recording: one row per frame and tool "
       "with status, ahat_from_tool, world_from_tool, FRE (docs/tracking.md)",
       "tofnav track"};
+  AddConfigOptions(app);
   MarkerSourceArgs source_args;
   std::vector<std::filesystem::path> tool_paths;
   std::filesystem::path marker_error_path, out_path;
@@ -94,10 +96,10 @@ int RunTrack(int argc, char** argv) {
   app.add_flag("--no-filter", no_filter, "no pose filter (filtered columns stay empty)");
   app.add_flag("--ahat-filter", ahat_filter,
                "filter the orientation in ahat even when frames carry a rig pose");
-  app.add_option("--max-fre", options.pose.max_fre_mm, "FRE acceptance [mm] (default 1.0)");
+  app.add_option("--max-fre", options.pose.max_fre_mm, "FRE acceptance [mm]");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
-  CLI11_PARSE(app, argc, argv);
+  TOFNAV_PARSE(app, argc, argv);
 
   std::vector<ToolGeometry> tools;
   for (const std::filesystem::path& p : tool_paths) tools.push_back(ReadToolFile(p));
@@ -149,7 +151,7 @@ int RunTrack(int argc, char** argv) {
     summary["tools"].push_back(tool);
   }
   if (json) {
-    std::cout << summary.dump(2) << "\n";
+    std::cout << WithOptions(summary, app).dump(2) << "\n";
     return EXIT_SUCCESS;
   }
   std::cout << "tracked " << tools.size() << " tool(s) over " << source.frames << " frames in "

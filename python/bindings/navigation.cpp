@@ -10,6 +10,7 @@
 #include "defines.hpp"
 #include "tofnav/casefile/markups_read.hpp"
 #include "tofnav/casefile/transform_io.hpp"
+#include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/pipeline/navigator.hpp"
 
 namespace tofnav::python {
@@ -138,7 +139,7 @@ void DefineNavigation(py::module_& m) {
            py::arg("tool_from_image"), py::arg("plan") = std::vector<Trajectory>{},
            py::arg("instrument") = py::none(), py::arg("marker_range") = py::none(),
            py::arg("stale_after_s") = 0.1, py::arg("filter_enabled") = false,
-           py::arg("ab_threshold") = 1280.0, py::arg("instrument_axis") = py::none())
+           py::arg("ab_threshold") = kMarkerAbThreshold, py::arg("instrument_axis") = py::none())
       .def("process", &Navigator::Process, py::arg("frame"),
            "one frame (in time order) -> NavigationState (Navigator::Process)")
       .def(

@@ -73,7 +73,7 @@ void DefineMarkers(py::module_& m) {
                                              .max_marker_diameter_mm = max_marker_diameter_mm};
         return LocateMarkers(frame, camera, options).markers;
       },
-      py::arg("frame"), py::arg("camera"), py::arg("ab_threshold") = 1280.0,
+      py::arg("frame"), py::arg("camera"), py::arg("ab_threshold") = kMarkerAbThreshold,
       py::arg("relative_threshold") = 0.0, py::arg("min_marker_diameter_mm") = 6.0,
       py::arg("max_marker_diameter_mm") = 16.0, "markers of one frame (LocateMarkers)");
 }

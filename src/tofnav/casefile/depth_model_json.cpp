@@ -279,7 +279,7 @@ DepthModelFile DecodeDepthModelJson(std::string_view text, const Path& path) {
   return file;
 }
 
-std::string EncodeDepthModelJson(const DepthModelFile& file) {
+std::string EncodeDepthModelJson(const DepthModelFile& file, const Json* options) {
   const DepthErrorModel& m = file.model;
   Json json{{"format", kModelFormat}, {"version", 1}};
   json["model"] = {
@@ -303,6 +303,7 @@ std::string EncodeDepthModelJson(const DepthModelFile& file) {
   json["model"]["multipath"] = MultipathToJson(m.multipath);
   json["marker_range"] = file.marker_range ? RangeToJson(*file.marker_range) : Json();
   json["fit"] = ReportToJson(m.report);
+  if (options != nullptr) json["options"] = *options;
   return json.dump(2) + "\n";
 }
 
@@ -312,8 +313,8 @@ DepthModelFile ReadDepthModelJson(const Path& path) {
       std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path);
 }
 
-void WriteDepthModelJson(const Path& path, const DepthModelFile& file) {
-  WriteFileAtomically(path, EncodeDepthModelJson(file));
+void WriteDepthModelJson(const Path& path, const DepthModelFile& file, const Json* options) {
+  WriteFileAtomically(path, EncodeDepthModelJson(file, options));
 }
 
 Json LeftOutToJson(const DepthModelFitReport& r) {

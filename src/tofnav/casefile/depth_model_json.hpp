@@ -26,9 +26,13 @@ struct DepthModelFile {
 /// The fit report is optional and read leniently (unknown keys ignored).
 DepthModelFile DecodeDepthModelJson(std::string_view text,
                                     const std::filesystem::path& path = "<depth model>");
-std::string EncodeDepthModelJson(const DepthModelFile& file);
+/// `options`: the settings that produced the model (the CLI's effective options), written as
+/// "options" and ignored by the reader.
+std::string EncodeDepthModelJson(const DepthModelFile& file,
+                                 const nlohmann::ordered_json* options = nullptr);
 DepthModelFile ReadDepthModelJson(const std::filesystem::path& path);
-void WriteDepthModelJson(const std::filesystem::path& path, const DepthModelFile& file);
+void WriteDepthModelJson(const std::filesystem::path& path, const DepthModelFile& file,
+                         const nlohmann::ordered_json* options = nullptr);
 
 /// What the identification left out (frames, foreground points, marker observations and each
 /// sticker's counts), as depth_model.json's "fit" and `tofnav identify --json` write it.

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "tofnav/io/io_error.hpp"
@@ -56,6 +57,13 @@ TEST(DepthModelJson, RoundTripsModelRangeAndReport) {
   EXPECT_EQ(out.model.multipath.ab_scale, 71.5);
   EXPECT_EQ(out.model.multipath.passes, 3);
   EXPECT_EQ(out.model.multipath.source_stride_px, in.model.multipath.source_stride_px);
+}
+
+TEST(DepthModelJson, WritesTheOptionsAndTheReaderIgnoresThem) {
+  const nlohmann::ordered_json options{{"max-frames", 300}, {"model", "theta"}};
+  const std::string text = EncodeDepthModelJson(Example(), &options);
+  EXPECT_EQ(nlohmann::ordered_json::parse(text)["options"], options);
+  EXPECT_EQ(DecodeDepthModelJson(text).model.c1_mm, 9.25);
 }
 
 TEST(DepthModelJson, AFileWithoutMultipathCorrectsWithoutIt) {

@@ -8,6 +8,7 @@
 
 #include "tofnav/core/image.hpp"
 #include "tofnav/correction/head_region.hpp"
+#include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
 
@@ -21,9 +22,9 @@ enum class PixelClass : std::uint8_t {
 };
 
 struct SegmentationOptions {
-  double marker_ab_threshold = 1280.0;  // AB counts: marker area (as IRToolTrack)
-  int min_marker_area_px = 4;           // smaller bright blobs are noise (left as head)
-  int max_marker_area_px = 4000;
+  double marker_ab_threshold = kMarkerAbThreshold;  // AB counts: marker area
+  int min_marker_area_px = 4;                       // smaller bright blobs are noise (left as head)
+  int max_marker_area_px = kMaxMarkerAreaPx;
   int transition_dilation_px = 3;  // Chebyshev dilation of the marker area [px]
   /// Region of interest: valid range within [min_range_mm, max_range_mm], in the automatic head
   /// region (head_region; enabled = false: every such pixel) and, when roi_radius_mm > 0, within

@@ -10,8 +10,14 @@
 
 namespace tofnav {
 
+/// AB counts at or above which a pixel belongs to a retro-reflective marker (IRToolTrack's
+/// threshold): the one default of detection, segmentation, the CLI and the Python bindings.
+inline constexpr double kMarkerAbThreshold = 1280.0;
+/// Largest bright blob taken for a marker [px].
+inline constexpr int kMaxMarkerAreaPx = 4000;
+
 struct MarkerDetectionOptions {
-  double ab_threshold = 1280.0;  // AB counts: pixels at or above belong to blobs (IRToolTrack)
+  double ab_threshold = kMarkerAbThreshold;  // AB counts: pixels at or above belong to blobs
   /// Hysteresis: a blob must peak at or above this [AB counts]; 0 = ab_threshold.
   double ab_seed_threshold = 0.0;
   /// Adaptive threshold: max(ab_threshold, relative_threshold * the relative_percentile AB of
@@ -20,7 +26,7 @@ struct MarkerDetectionOptions {
   double relative_threshold = 0.0;
   double relative_percentile = 0.999;  // dimensionless, in (0, 1)
   int min_area_px = 3;
-  int max_area_px = 4000;
+  int max_area_px = kMaxMarkerAreaPx;
   /// Marker diameters the scene may hold [mm]; with the blob's range they bound its area.
   double min_marker_diameter_mm = 6.0;
   double max_marker_diameter_mm = 16.0;
