@@ -16,13 +16,9 @@
 #include "evaluate.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
-#include "tofnav/correction/identification_frame.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/correction/material_study.hpp"
-#include "tofnav/evaluation/truth_hits.hpp"
-#include "tofnav/io/io_error.hpp"
-#include "tofnav/markers/marker_detection.hpp"
-#include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/evaluation/material_evaluate.hpp"
 #include "tofnav/sensor/ahat_recording.hpp"
 
 namespace tofnav {
@@ -30,72 +26,6 @@ namespace {
 
 using Json = nlohmann::json;
 constexpr double kRadToDeg = 180.0 / std::numbers::pi;
-
-struct Settings {
-  double ab_threshold = kMarkerAbThreshold;  // AB counts: IR-tape pixels
-  int margin_px = 3;  // pixels this close to another object or a tape edge: mixed
-  std::optional<MarkerRangeModel> frf;
-};
-
-bool ValidRange(std::uint16_t r) { return r > 0 && r < kAhatInvalidRange; }
-
-// True when every pixel within the margin satisfies `inside`.
-template <typename Inside>
-bool Interior(const AhatFrame& frame, int u, int v, int margin, Inside inside) {
-  for (int dv = -margin; dv <= margin; ++dv) {
-    for (int du = -margin; du <= margin; ++du) {
-      if (!frame.ab.Contains(u + du, v + dv) || !inside(u + du, v + dv)) return false;
-    }
-  }
-  return true;
-}
-
-// One frame: the tape pixels (AB threshold, eroded by the margin, Eq. 2 applied) fitted as the
-// reference plane, then every interior material pixel against it and against truth.
-bool StudyFrame(const AhatFrame& frame, const TruthHits& truth, const AhatCamera& camera,
-                const Settings& settings, MaterialStudy& study, std::vector<double>& plane_rms) {
-  const auto tape = [&](int u, int v) {
-    return frame.ab(u, v) >= settings.ab_threshold && ValidRange(frame.range_mm(u, v)) &&
-           camera.IsValid(u, v);
-  };
-  const auto ray = [&](int u, int v) { return camera.PixelRay(u, v).cast<double>().normalized(); };
-  std::vector<Eigen::Vector3d> tape_points;
-  std::vector<std::pair<int, int>> tape_pixels;
-  for (int v = 0; v < frame.ab.height(); ++v) {
-    for (int u = 0; u < frame.ab.width(); ++u) {
-      if (!tape(u, v) || !Interior(frame, u, v, settings.margin_px, tape)) continue;
-      const double range = frame.range_mm(u, v);
-      tape_points.push_back(ray(u, v) *
-                            (settings.frf ? CorrectMarkerRange(range, *settings.frf) : range));
-      tape_pixels.emplace_back(u, v);
-    }
-  }
-  const std::optional<ReferencePlane> plane = FitReferencePlane(tape_points);
-  if (!plane) return false;
-  plane_rms.push_back(plane->rms_mm);
-  const auto add = [&](int material, const Eigen::Vector3d& x, float truth_range_mm) {
-    const std::optional<double> e = ReferenceDepthErrorMm(*plane, x);
-    if (!e) return;
-    const double range = x.norm();
-    study.Add({material, static_cast<float>(range - *e),
-               static_cast<float>(PlaneIncidenceRad(*plane, x)), static_cast<float>(*e),
-               truth_range_mm > 0.0f ? static_cast<float>(range - truth_range_mm) : NAN});
-  };
-  for (std::size_t i = 0; i < tape_points.size(); ++i) {
-    const auto [u, v] = tape_pixels[i];
-    if (truth.material(u, v) >= 0) add(truth.material(u, v), tape_points[i], truth.range_mm(u, v));
-  }
-  for (int v = 0; v < frame.ab.height(); ++v) {
-    for (int u = 0; u < frame.ab.width(); ++u) {
-      const int object = truth.object(u, v);
-      if (object < 0 || tape(u, v) || !ValidRange(frame.range_mm(u, v))) continue;
-      const auto same = [&](int x, int y) { return truth.object(x, y) == object && !tape(x, y); };
-      if (!Interior(frame, u, v, settings.margin_px, same)) continue;
-      add(truth.material(u, v), ray(u, v) * frame.range_mm(u, v), truth.range_mm(u, v));
-    }
-  }
-  return true;
-}
 
 Json StatsJson(const Summary& s) {  // a Summary of depth errors [mm]
   return {{"count", s.count}, {"median_mm", s.median}, {"iqr_mm", s.iqr()}, {"q1_mm", s.p25},
@@ -163,7 +93,7 @@ int RunEvaluateMaterials(int argc, char** argv) {
   run.max_frames = 180;
   std::filesystem::path frf_path;
   double depth_bin_mm = 50.0, angle_bin_deg = 10.0;
-  Settings settings;
+  MaterialEvaluationOptions settings;
   run.AddOptions(app, "simulator output folder (truth.json)");
   app.add_option("--marker-error", frf_path, "f_rf curve: Eq. (2) on the tape ranges");
   app.add_option("--ab-threshold", settings.ab_threshold, "AB counts of IR-tape pixels")
@@ -176,41 +106,26 @@ int RunEvaluateMaterials(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   TOFNAV_PARSE(app, argc, argv);
 
-  const std::filesystem::path& truth_dir = run.truth_dir;
   const bool json_out = run.json, quiet = run.quiet;
-  const int max_frames = run.max_frames;
+  settings.max_frames = run.max_frames;
+  settings.study.depth_bin_mm = depth_bin_mm;
+  settings.study.angle_bin_rad = angle_bin_deg / kRadToDeg;
   const AhatCamera camera = run.Camera();
   const std::unique_ptr<AhatRecording> recording = run.Open();
   if (!frf_path.empty()) settings.frf = ReadMarkerRangeJson(frf_path).model;
-  SimulationTruth simulation = ReadSimulationTruth(truth_dir, run.scenario_name);
-  sim::Scenario& scenario = simulation.scenario;
-  sim::SceneRaycaster caster(scenario.scene);
-  const Json& truth_frames = simulation.truth.at("frames");
-  if (truth_frames.size() != recording->frame_count()) {
-    throw IoError(truth_dir / "truth.json", std::nullopt,
-                  "frame count differs from the recording's");
-  }
-  std::vector<std::string> names;
-  for (const sim::Material& m : scenario.scene.materials) names.push_back(m.name);
-  MaterialStudyOptions study_options;
-  study_options.depth_bin_mm = depth_bin_mm;
-  study_options.angle_bin_rad = angle_bin_deg / kRadToDeg;
-  MaterialStudy study(names, study_options);
-  std::vector<double> plane_rms;
-  const std::vector<int> picked = EvenSubsample(static_cast<int>(truth_frames.size()), max_frames);
+  SimulationTruth simulation = ReadSimulationTruth(run.truth_dir, run.scenario_name);
   ProgressBar progress("evaluate materials", quiet || json_out);
-  for (std::size_t n = 0; n < picked.size(); ++n) {
-    const auto i = static_cast<std::size_t>(picked[n]);
-    const AhatFrame frame = recording->ReadFrame(i);
-    const TruthHits hits = CastTruthHits(scenario.scene, caster, truth_frames[i], camera);
-    StudyFrame(frame, hits, camera, settings, study, plane_rms);
-    progress.Update(n + 1, picked.size());
-  }
-  const MaterialStudyResult result = study.Summarise();
+  const MaterialEvaluation evaluation =
+      EvaluateMaterials(*recording, camera, simulation, run.truth_dir / "truth.json", settings,
+                        [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+  const MaterialStudyResult& result = evaluation.result;
+  const std::vector<std::string>& names = evaluation.material_names;
+  const std::vector<double>& plane_rms = evaluation.plane_rms_mm;
+  const std::size_t frames = evaluation.frames;
   const Summary plane_rms_mm = SummariseDepthErrors({plane_rms.begin(), plane_rms.end()});
   if (json_out) {
     std::cout << WithOptions(
-                     Json{{"frames", picked.size()},
+                     Json{{"frames", frames},
                           {"frames_with_plane", plane_rms.size()},
                           {"marker_error_applied", settings.frf.has_value()},
                           {"reference_plane_rms_mm_median", plane_rms_mm.median},
@@ -223,7 +138,7 @@ int RunEvaluateMaterials(int argc, char** argv) {
               << "\n";
     return EXIT_SUCCESS;
   }
-  std::cout << "material depth error [mm], " << picked.size() << " frames (" << plane_rms.size()
+  std::cout << "material depth error [mm], " << frames << " frames (" << plane_rms.size()
             << " with a reference plane, median plane RMS " << std::fixed << std::setprecision(2)
             << plane_rms_mm.median << " mm), f_rf " << (settings.frf ? "applied" : "not applied")
             << "\n"
