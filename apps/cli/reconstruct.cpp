@@ -21,7 +21,6 @@
 #include "tofnav/core/require.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/pipeline/reconstruct_correction.hpp"
-#include "tofnav/recording/hl2ss_calibration.hpp"
 #include "tofnav/recording/open_recording.hpp"
 
 namespace tofnav {
@@ -125,15 +124,10 @@ int RunReconstruct(int argc, char** argv) {
   options.model_check.gate_pixels = !no_pixel_gate;
   options.check_pose_consistency = !no_pose_check;
   options.pose_consistency.max_rotation_rad = max_jump_deg * std::numbers::pi / 180.0;
-  const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
-  std::optional<AhatCalibration> calibration;
-  if (!calibration_dir.empty()) {
-    calibration = ReadHl2ssCalibration(calibration_dir, sample_offset);
-  } else {
-    calibration = recording->calibration();
-    Require(calibration.has_value(), "the recording has no calibration: give --calibration DIR");
-  }
-  const AhatCamera camera(*calibration);
+  const RecordingWithCamera opened =
+      OpenRecordingWithCamera(recording_path, calibration_dir, sample_offset);
+  const AhatRecording& recording = *opened.recording;
+  const AhatCamera& camera = *opened.camera;
   bool multipath_removed = false;  // the depth model says (docs/correction.md 7)
   if (!depth_model_path.empty()) {
     correct.max_incidence_rad = max_incidence_deg * std::numbers::pi / 180.0;
@@ -146,7 +140,7 @@ int RunReconstruct(int argc, char** argv) {
   const ToolGeometry tool = ReadToolJson(tool_path);
   ProgressBar progress("reconstruct", quiet || json);
   const ReconstructResult r = ReconstructSurface(
-      *recording, camera, tool, options,
+      recording, camera, tool, options,
       [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
   progress.Finish();
   WriteMesh(out_path, r.mesh);
