@@ -148,7 +148,9 @@ class ScenarioBuilder {
       if (!head_) Fail(in.At("stickers"), "stickers need a patient");
       JsonFields st(*stickers, in.At("stickers"));
       double diameter_mm = 10.0;
+      bool conform = true;  // tape follows the skin; false: rigid flat discs (docs/simulator.md)
       st.Read("diameter_mm", diameter_mm);
+      st.Read("conform", conform);
       const std::string list_at = st.At("azimuth_elevation_rad");
       const Json& list = internal::ArrayAt(st.Get("azimuth_elevation_rad"), list_at);
       std::vector<Eigen::Vector3d> directions;
@@ -159,8 +161,9 @@ class ScenarioBuilder {
       }
       st.Finish();
       const int object = s_.patient->object;
-      s_.AddTool(sim::SkinStickers(name, *head_, directions, diameter_mm, material),
-                 s_.object_mounts[static_cast<std::size_t>(object)]);
+      s_.AddTool(
+          sim::SkinStickers(name, *head_, directions, diameter_mm, material, conform ? object : -1),
+          s_.object_mounts[static_cast<std::size_t>(object)]);
       s_.scene.tools.back().scene_from_tool =
           s_.scene.objects[static_cast<std::size_t>(object)].scene_from_object;
       in.Finish();

@@ -35,10 +35,10 @@ sim::Scenario TinyPatientScenario() {
   coarse.segments = 48;
   const sim::PatientHead head = sim::PhantomHead(coarse);
   sim::AddPatient(s, head, s.scene.AddMaterial(sim::NylonMaterial()), -1, Rigid3d());
-  s.AddTool(
-      sim::SkinStickers("stickers", head,
-                        {sim::HeadDirection(0.1, 0.4), sim::HeadDirection(-0.2, 0.5)}, 10.0, retro),
-      -1);
+  s.AddTool(sim::SkinStickers("stickers", head,
+                              {sim::HeadDirection(0.1, 0.4), sim::HeadDirection(-0.2, 0.5)}, 10.0,
+                              retro, s.patient->object),
+            -1);
   // LPS: the face looks along -y; the camera stands 400 mm in front of it.
   s.camera.motion = sim::StaticMotion(
       sim::LookAt({0.0, -400.0, 30.0}, {0.0, 0.0, 30.0}, Eigen::Vector3d::UnitZ()));

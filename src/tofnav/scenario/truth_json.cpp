@@ -51,6 +51,8 @@ OrderedJson ToolJson(const sim::Scenario& s, std::size_t t, bool rigid_with_pati
                        {"centre_in_tool", Vector(m.centre_in_tool)}};
     if (m.shape == sim::MarkerShape::kDisc) marker["normal_in_tool"] = Vector(m.normal_in_tool);
     marker["material"] = s.scene.materials[static_cast<std::size_t>(m.material)].name;
+    if (m.conforms_to_object >= 0)  // tape drawn on this object's surface
+      marker["conforms_to"] = s.scene.objects[static_cast<std::size_t>(m.conforms_to_object)].name;
     markers.push_back(marker);
   }
   return {{"mount", MountName(s, s.tool_mounts[t])},

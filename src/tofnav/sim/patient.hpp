@@ -47,12 +47,15 @@ int AddPatient(Scenario& scenario, const PatientHead& head, int material, int mo
 /// left) and elevation (up) from straight anterior [rad].
 Eigen::Vector3d HeadDirection(double azimuth_rad, double elevation_rad);
 
-/// A tool of flat retro-reflective discs stuck on the skin where rays from the anatomy centre
-/// along `directions_in_image` leave it, lifted by their sag on a 90 mm head or, on a rough skin,
-/// as far as the skin rises over their footprint (so no rim sinks in); tool frame = image frame.
+/// A tool of retro-reflective tape discs stuck on the skin where rays from the anatomy centre
+/// along `directions_in_image` leave it; tool frame = image frame. With `skin_object` >= 0 (the
+/// skin's index in the scene) each disc follows the skin 0.1 mm in front of it (tape bends to the
+/// skin; Marker::conforms_to_object). With -1 each is a rigid flat disc lifted by its sag on a
+/// 90 mm head or, on a rough skin, as far as the skin rises over its footprint (so no rim sinks
+/// in): on a rough skin it then stands millimetres in front of the skin around it.
 /// Add it on the patient's mount with mount_from_tool = mount_from_image.
 Tool SkinStickers(std::string name, const PatientHead& head,
                   const std::vector<Eigen::Vector3d>& directions_in_image, double diameter_mm,
-                  int material);
+                  int material, int skin_object);
 
 }  // namespace tofnav::sim

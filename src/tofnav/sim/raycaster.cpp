@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/sim/decals.hpp"
 
 namespace tofnav::sim {
 namespace {
@@ -125,6 +126,7 @@ struct SceneRaycaster::Impl {
   std::vector<int> object_materials;
   std::vector<std::vector<Marker>> tool_markers;
   std::vector<ToolPrimitives> tool_primitives;
+  std::vector<std::vector<Decal>> object_decals;  // per object
 
   void AddInstance(ScenePtr prototype, int object, int tool) {
     GeometryPtr geometry(rtcNewGeometry(device.get(), RTC_GEOMETRY_TYPE_INSTANCE));
@@ -163,6 +165,7 @@ struct SceneRaycaster::Impl {
   ScenePtr ToolPrototype(const std::vector<Marker>& markers, ToolPrimitives& primitives) {
     ScenePtr scene(rtcNewScene(device.get()));
     for (int i = 0; i < static_cast<int>(markers.size()); ++i) {
+      if (markers[static_cast<std::size_t>(i)].conforms_to_object >= 0) continue;  // a decal
       auto& list = markers[static_cast<std::size_t>(i)].shape == MarkerShape::kSphere
                        ? primitives.sphere_markers
                        : primitives.disc_markers;
@@ -219,6 +222,15 @@ struct SceneRaycaster::Impl {
       normal = ((1.0f - u - v) * tri.n0 + u * tri.n1 + v * tri.n2).cast<double>();
       hit.object = instance.object;
       hit.material = object_materials[object];
+      if (const Decal* decal = FindDecal(object_decals[object], o + range * d)) {
+        // The tape: its plane along this ray, with the plane's normal for shading.
+        normal = decal->normal_in_object;
+        range = plane_range(normal, decal->centre_in_object);
+        hit.object = -1;
+        hit.tool = decal->tool;
+        hit.marker = decal->marker;
+        hit.material = decal->material;
+      }
     } else {
       const std::size_t tool = static_cast<std::size_t>(instance.tool);
       const ToolPrimitives& primitives = tool_primitives[tool];
@@ -262,11 +274,15 @@ SceneRaycaster::SceneRaycaster(const Scene& scene) : impl_(std::make_unique<Impl
     if (object.mesh.triangles.empty()) continue;
     impl_->AddInstance(impl_->MeshPrototype(object.mesh), i, -1);
   }
+  impl_->object_decals = CollectDecals(scene);
   for (int i = 0; i < static_cast<int>(scene.tools.size()); ++i) {
     const Tool& tool = scene.tools[static_cast<std::size_t>(i)];
     impl_->tool_markers.push_back(tool.markers);
     impl_->tool_primitives.emplace_back();
-    if (tool.markers.empty()) continue;
+    if (std::all_of(tool.markers.begin(), tool.markers.end(),
+                    [](const Marker& m) { return m.conforms_to_object >= 0; })) {
+      continue;  // no rigid marker: nothing for Embree (an empty tool included)
+    }
     impl_->AddInstance(impl_->ToolPrototype(tool.markers, impl_->tool_primitives.back()), -1, i);
   }
   ThrowOnDeviceError(impl_->device.get(), "building the scene");
@@ -290,6 +306,7 @@ void SceneRaycaster::SetPoses(const Scene& scene, const Rigid3d& scene_from_ahat
     Require(scene.tools[i].markers.size() == impl_->tool_markers[i].size(),
             "SceneRaycaster::SetPoses: a tool's markers changed since construction");
   }
+  PlaceDecals(scene, impl_->object_decals);
   const Rigid3d ahat_from_scene = scene_from_ahat.Inverse();
   for (Instance& instance : impl_->instances) {
     const Rigid3d& scene_from_local =

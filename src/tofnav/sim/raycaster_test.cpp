@@ -109,5 +109,47 @@ TEST(SceneRaycaster, UsesInterpolatedVertexNormalsForShading) {
   EXPECT_NEAR((hit.normal_in_ahat - radial).norm(), 0.0, 0.01);  // smooth, not the facet normal
 }
 
+TEST(SceneRaycaster, DrawsAConformingStickerOnItsObjectsSurface) {
+  // A 10 mm tape sticker, 0.1 mm thick, on a board 500 mm ahead that is tilted 0.4 rad about y;
+  // the tool and the board share a pose (the sticker moves with its object).
+  Scene scene = testing::BoardScene(DiffuseMaterial(0.5), 500.0, 0.4);
+  const Rigid3d tilt = scene.objects[0].scene_from_object;
+  const int retro = scene.AddMaterial(RetroReflectiveMaterial());
+  Tool tool;
+  Marker sticker = DiscMarkerOnSurface({0.0, 0.0, 0.0}, {0.0, 0.0, 1.0}, 10.0, retro, 0.1);
+  sticker.conforms_to_object = 0;
+  tool.markers.push_back(sticker);
+  tool.scene_from_tool = tilt;
+  scene.AddTool(tool);
+  SceneRaycaster raycaster(scene);
+  const Eigen::Vector3d normal = tilt.rotation * Eigen::Vector3d::UnitZ();  // towards the camera
+  const auto board_range = [&](const Eigen::Vector3d& ray) {  // plane through (0, 0, 500)
+    return normal.dot(Eigen::Vector3d(0.0, 0.0, 500.0)) / normal.dot(ray);
+  };
+  const Eigen::Vector3d centre = Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d inside = Eigen::Vector3d(3.0, 1.0, 500.0).normalized();
+  const Eigen::Vector3d outside = Eigen::Vector3d(0.0, 6.0, 500.0).normalized();
+  const std::vector<RayHit> hits = Cast(raycaster, {centre, inside, outside});
+  for (int k : {0, 1}) {
+    const Eigen::Vector3d& ray = k == 0 ? centre : inside;
+    EXPECT_EQ(hits[k].tool, 0);
+    EXPECT_EQ(hits[k].marker, 0);
+    EXPECT_EQ(hits[k].object, -1);
+    EXPECT_EQ(hits[k].material, retro);
+    // The tape's front face: 0.1 mm along the normal, 0.1 / cos(incidence) along the ray.
+    EXPECT_NEAR(hits[k].range_mm, board_range(ray) - 0.1 / std::abs(normal.dot(ray)), 1e-6);
+    EXPECT_NEAR((hits[k].normal_in_ahat - normal).norm(), 0.0, kNormalTol);  // the board's
+  }
+  EXPECT_EQ(hits[2].object, 0);  // 6 mm off the centre: bare board
+  EXPECT_NEAR(hits[2].range_mm, board_range(outside), 1e-6);
+  // It moves with the board: 50 mm farther, the sticker is still there and nothing floats.
+  scene.objects[0].scene_from_object.translation.z() += 50.0;
+  scene.tools[0].scene_from_tool.translation.z() += 50.0;
+  raycaster.SetPoses(scene, Rigid3d::Identity());
+  const RayHit moved = Cast(raycaster, {centre})[0];
+  EXPECT_EQ(moved.marker, 0);
+  EXPECT_NEAR(moved.range_mm, 550.0 - 0.1 / std::abs(normal.z()), 1e-6);
+}
+
 }  // namespace
 }  // namespace tofnav::sim

@@ -172,7 +172,7 @@ Scenario HeadIdentification(const PatientHead* given_head) {
               SkinStickers("forehead_markers", head,
                            {HeadDirection(-0.30, 0.45), HeadDirection(0.28, 0.47),
                             HeadDirection(-0.10, 0.72), HeadDirection(0.16, 0.62)},
-                           10.0, retro),
+                           10.0, retro, s.patient->object),
               mount);
   s.camera.motion = Wearer(WorldFromUprightImage(centre) * Eigen::Vector3d(0.0, -60.0, 40.0), 6.0);
   s.camera.motion.head_worn.azimuth_span_rad = 1.6;
@@ -323,7 +323,7 @@ Scenario EvdUseCase(const PatientHead* given_head) {
               SkinStickers("forehead_markers", head,
                            {HeadDirection(-0.25, 0.50), HeadDirection(0.22, 0.42),
                             HeadDirection(0.04, 0.74)},
-                           10.0, retro),
+                           10.0, retro, s.patient->object),
               headframe);
   AddEvdOccluders(s, head, headframe, retro);  // drape, hand, instrument (evd_occluders.hpp)
   s.camera.motion = Wearer(WorldFromUprightImage(centre) * Eigen::Vector3d(0.0, -40.0, 50.0), 8.0);

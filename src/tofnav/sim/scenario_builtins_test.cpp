@@ -84,7 +84,8 @@ TEST(BuiltinScenario, EvdUseCaseHasTheHeadframeToolsStickersAndPlan) {
   EXPECT_EQ(s.patient->plan.size(), 9u);
   EXPECT_EQ(s.ToolsRigidWithPatient().size(), 3u);  // two references + the stickers
   EXPECT_EQ(s.camera.motion.kind, MotionKind::kHeadWorn);
-  // The stickers lie on the skin (within their lift and a facet's sag).
+  // The stickers are tape on the skin: 0.1 mm over the mean plane of the skin under them, which on
+  // a convex head lies about half a 10 mm disc's sag (0.07 mm) below the skin at its centre.
   const TriangleMesh& skin = s.scene.objects[static_cast<std::size_t>(s.patient->object)].mesh;
   const sim::Tool& stickers = s.scene.tools[2];  // after the two references
   ASSERT_EQ(stickers.name, "forehead_markers");
@@ -92,7 +93,8 @@ TEST(BuiltinScenario, EvdUseCaseHasTheHeadframeToolsStickersAndPlan) {
   for (const Marker& m : stickers.markers) {
     const MeshHit hit = RequireMeshHit(skin, s.patient->anatomy.centre_in_image,
                                        m.centre_in_tool - s.patient->anatomy.centre_in_image, "");
-    EXPECT_NEAR((hit.point - m.centre_in_tool).norm(), 0.2, 0.15);
+    EXPECT_EQ(m.conforms_to_object, s.patient->object);
+    EXPECT_LT((hit.point - m.centre_in_tool).norm(), 0.2);  // + the facets, along an oblique ray
   }
 }
 

@@ -188,6 +188,7 @@ std::vector<MarkerIntersection> FindMarkerIntersections(const Scenario& scenario
     for (std::size_t t = 0; t < scenario.scene.tools.size(); ++t) {
       const std::vector<Marker>& markers = scenario.scene.tools[t].markers;
       for (std::size_t m = 0; m < markers.size(); ++m) {
+        if (markers[m].conforms_to_object >= 0) continue;  // tape drawn on its object's surface
         const auto [object, depth_mm] = prober.Probe(markers[m], world_from_tools[t]);
         if (depth_mm <= options.tolerance_mm) continue;
         const auto same = [&](const MarkerIntersection& f) {

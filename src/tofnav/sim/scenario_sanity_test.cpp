@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "tofnav/core/require.hpp"
 #include "tofnav/sim/occluders.hpp"
 #include "tofnav/sim/patient.hpp"
@@ -113,9 +115,9 @@ TEST(ScenarioSanity, AHandThroughAMarkerAtAKeyframeIsFoundAtThatSlot) {
   EXPECT_NE(DescribeMarkerIntersection(s, found[0]).find(", at slot 40"), std::string::npos);
 }
 
-TEST(ScenarioSanity, StickersOnARoughSkinAreLiftedClearOfIt) {
-  // A 90 mm ball with a 2.5 mm wart 4 mm beside where a 10 mm sticker goes (straight anterior):
-  // flat on the ball, the sticker's rim would sink 2.5 mm into the wart.
+// A 90 mm ball with a 2.5 mm wart 4 mm beside where a 10 mm sticker goes (straight anterior):
+// flat on the ball, a rigid sticker's rim would sink 2.5 mm into the wart.
+Scenario WartScenario(bool conform) {
   TriangleMesh skin = SphereMesh(90.0, 192);
   const TriangleMesh wart = SphereMesh(2.5, 16);
   const auto offset = static_cast<int>(skin.vertices.size());
@@ -132,12 +134,32 @@ TEST(ScenarioSanity, StickersOnARoughSkinAreLiftedClearOfIt) {
   head.anatomy.centre_in_image = Eigen::Vector3d::Zero();  // the ball's centre
   AddPatient(s, head, s.scene.AddMaterial(SkinMaterial()), -1, Rigid3d::Identity());
   const int retro = s.scene.AddMaterial(RetroReflectiveMaterial());
-  s.AddTool(SkinStickers("sticker", head, {HeadDirection(0.0, 0.0)}, 10.0, retro), -1);
+  s.AddTool(SkinStickers("sticker", head, {HeadDirection(0.0, 0.0)}, 10.0, retro,
+                         conform ? s.patient->object : -1),
+            -1);
+  return s;
+}
+
+TEST(ScenarioSanity, RigidStickersOnARoughSkinAreLiftedClearOfIt) {
+  const Scenario s = WartScenario(false);
   const Marker& sticker = s.scene.tools[0].markers[0];
+  EXPECT_EQ(sticker.conforms_to_object, -1);
   // Lifted over the wart (2.5 mm high; the probes at half and full radius meet it 1 mm off its top,
   // 2.29 mm high), against 0.24 mm on the bare ball.
   EXPECT_GT(sticker.centre_in_tool.norm() - 90.0, 2.2);
   EXPECT_TRUE(FindMarkerIntersections(s).empty());
+}
+
+TEST(ScenarioSanity, TapeStickersLieOnTheMeanPlaneOfARoughSkin) {
+  const Scenario s = WartScenario(true);
+  const Marker& sticker = s.scene.tools[0].markers[0];
+  EXPECT_EQ(sticker.conforms_to_object, s.patient->object);
+  // 0.1 mm of tape over the mean plane of the 33 skin points probed under it, which the wart
+  // (a few of them, up to 2.5 mm high) lifts and tilts: far below the rigid disc's 2.2 mm.
+  EXPECT_GT(sticker.centre_in_tool.norm() - 90.0, 0.1);
+  EXPECT_LT(sticker.centre_in_tool.norm() - 90.0, 0.5);
+  EXPECT_LT(std::acos(-sticker.normal_in_tool.y()), 0.2);  // anterior (-y), 9 deg off by the wart
+  EXPECT_TRUE(FindMarkerIntersections(s).empty());         // drawn on the skin: not probed
 }
 
 TEST(ScenarioSanity, EveryBuiltInScenarioIsClear) {

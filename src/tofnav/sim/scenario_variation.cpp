@@ -41,21 +41,28 @@ void RemoveToolsIf(Scenario& s, const std::function<bool(const Tool&)>& remove) 
   s.tool_mounts = std::move(mounts);
 }
 
-// Removes the objects whose name `remove` selects; the patient's skin object is kept.
+// Removes the objects whose name `remove` selects; the patient's skin object is kept. Stickers
+// that conformed to a removed object become rigid discs; the others follow the new indices.
 void RemoveObjectsIf(Scenario& s, const std::function<bool(const std::string&)>& remove) {
   std::vector<SceneObject> objects;
   std::vector<int> mounts;
-  int patient_object = -1;
+  std::vector<int> new_index(s.scene.objects.size(), -1);
   for (std::size_t o = 0; o < s.scene.objects.size(); ++o) {
     const bool skin = s.patient && static_cast<int>(o) == s.patient->object;
     if (!skin && remove(s.scene.objects[o].name)) continue;
-    if (skin) patient_object = static_cast<int>(objects.size());
+    new_index[o] = static_cast<int>(objects.size());
     objects.push_back(std::move(s.scene.objects[o]));
     mounts.push_back(s.object_mounts[o]);
   }
   s.scene.objects = std::move(objects);
   s.object_mounts = std::move(mounts);
-  if (s.patient) s.patient->object = patient_object;
+  if (s.patient) s.patient->object = new_index[static_cast<std::size_t>(s.patient->object)];
+  for (Tool& tool : s.scene.tools) {
+    for (Marker& m : tool.markers) {
+      if (m.conforms_to_object >= 0)
+        m.conforms_to_object = new_index[static_cast<std::size_t>(m.conforms_to_object)];
+    }
+  }
 }
 
 bool NamedLike(const std::string& name, std::initializer_list<const char*> prefixes) {
@@ -69,6 +76,7 @@ void TapeToSpheres(Tool& tool) {
     const Eigen::Vector3d normal = m.normal_in_tool.normalized();
     const Eigen::Vector3d on_plate = m.centre_in_tool - normal * normal.dot(m.centre_in_tool);
     m.shape = MarkerShape::kSphere;
+    m.conforms_to_object = -1;
     m.diameter_mm = kSphereDiameterMm;
     m.centre_in_tool = on_plate + normal * (kPostMm + kSphereDiameterMm / 2.0);
   }

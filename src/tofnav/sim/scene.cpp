@@ -54,6 +54,10 @@ void Scene::Check() const {
       Require(marker.centre_in_tool.allFinite(), "Scene: marker centre must be finite");
       Require(marker.shape != MarkerShape::kDisc || marker.normal_in_tool.norm() > 0.5,
               "Scene: disc marker normal must be a unit vector");
+      Require(marker.conforms_to_object < static_cast<int>(objects.size()) &&
+                  (marker.conforms_to_object < 0 || marker.shape == MarkerShape::kDisc),
+              "Scene: a conforming marker of tool '" + tool.name +
+                  "' must be a disc on an existing object");
     }
   }
 }

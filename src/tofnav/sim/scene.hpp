@@ -33,6 +33,14 @@ struct Marker {
   Eigen::Vector3d centre_in_tool = Eigen::Vector3d::Zero();   // sphere or disc centre [mm]
   Eigen::Vector3d normal_in_tool = Eigen::Vector3d::UnitZ();  // disc front side; unused for spheres
   int material = 0;  // index into Scene::materials (normally a retro-reflective one)
+  /// A tape sticker on the surface of this object (index into Scene::objects; -1: a rigid
+  /// sphere or flat disc). Drawn as a decal: a ray that meets the object within diameter / 2 of
+  /// centre_in_tool (measured in the sticker's plane) meets the sticker instead, on the plane
+  /// through centre_in_tool with normal normal_in_tool, which is then the least-squares plane of
+  /// the surface under the sticker lifted by the tape's thickness: tape bridges wrinkles smaller
+  /// than itself, and nothing of it floats beside or sinks behind the surface. The tool must move
+  /// with the object (same mount).
+  int conforms_to_object = -1;
 };
 
 /// A rigid set of markers (a tracked tool, or stickers that move with an object).
