@@ -3,6 +3,7 @@
 #include "tofnav/fusion/mesh_components.hpp"
 
 #include <numeric>
+#include <optional>
 #include <vector>
 
 namespace tofnav {
@@ -35,16 +36,42 @@ class DisjointSets {
   std::vector<std::size_t> size_;
 };
 
-}  // namespace
-
-TriangleMesh LargestConnectedComponent(const TriangleMesh& mesh) {
-  mesh.CheckConsistent();
-  if (mesh.triangles.empty()) return {};
+DisjointSets Components(const TriangleMesh& mesh) {
   DisjointSets sets(mesh.vertices.size());
   for (const Eigen::Vector3i& t : mesh.triangles) {
     sets.Union(static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[1]));
     sets.Union(static_cast<std::size_t>(t[0]), static_cast<std::size_t>(t[2]));
   }
+  return sets;
+}
+
+// The triangles (and their vertices) of the component with root `root`, in their order.
+TriangleMesh KeepComponent(const TriangleMesh& mesh, DisjointSets& sets, std::size_t root) {
+  TriangleMesh out;
+  std::vector<int> remap(mesh.vertices.size(), -1);
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (sets.Find(v) != root) continue;
+    remap[v] = static_cast<int>(out.vertices.size());
+    out.vertices.push_back(mesh.vertices[v]);
+    if (!mesh.vertex_normals.empty()) out.vertex_normals.push_back(mesh.vertex_normals[v]);
+    if (!mesh.vertex_colors.empty()) out.vertex_colors.push_back(mesh.vertex_colors[v]);
+    if (!mesh.vertex_scalars.empty()) out.vertex_scalars.push_back(mesh.vertex_scalars[v]);
+  }
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    if (sets.Find(static_cast<std::size_t>(t[0])) != root) continue;
+    out.triangles.emplace_back(remap[static_cast<std::size_t>(t[0])],
+                               remap[static_cast<std::size_t>(t[1])],
+                               remap[static_cast<std::size_t>(t[2])]);
+  }
+  return out;
+}
+
+}  // namespace
+
+TriangleMesh LargestConnectedComponent(const TriangleMesh& mesh) {
+  mesh.CheckConsistent();
+  if (mesh.triangles.empty()) return {};
+  DisjointSets sets = Components(mesh);
   // Triangles per component root; the first triangle met decides ties.
   std::vector<std::size_t> triangles_of(mesh.vertices.size(), 0);
   std::size_t best_root = sets.Find(static_cast<std::size_t>(mesh.triangles.front()[0]));
@@ -52,25 +79,24 @@ TriangleMesh LargestConnectedComponent(const TriangleMesh& mesh) {
     const std::size_t root = sets.Find(static_cast<std::size_t>(t[0]));
     if (++triangles_of[root] > triangles_of[best_root]) best_root = root;
   }
-  TriangleMesh out;
-  std::vector<int> remap(mesh.vertices.size(), -1);
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-    if (sets.Find(v) != best_root) continue;
-    remap[v] = static_cast<int>(out.vertices.size());
-    out.vertices.push_back(mesh.vertices[v]);
-    if (!mesh.vertex_normals.empty()) out.vertex_normals.push_back(mesh.vertex_normals[v]);
-    if (!mesh.vertex_colors.empty()) out.vertex_colors.push_back(mesh.vertex_colors[v]);
-    if (!mesh.vertex_scalars.empty()) out.vertex_scalars.push_back(mesh.vertex_scalars[v]);
-  }
-  // Every vertex in the best root's set belongs to a kept triangle: sets grow only through
-  // triangles, and best_root is the root of one.
+  return KeepComponent(mesh, sets, best_root);
+}
+
+TriangleMesh ConnectedComponentAround(const TriangleMesh& mesh, const Eigen::Vector3d& point,
+                                      double radius_mm) {
+  mesh.CheckConsistent();
+  if (mesh.triangles.empty()) return {};
+  DisjointSets sets = Components(mesh);
+  // Triangles per component root within the radius; the first triangle met decides ties.
+  std::vector<std::size_t> near_of(mesh.vertices.size(), 0);
+  std::optional<std::size_t> best_root;
   for (const Eigen::Vector3i& t : mesh.triangles) {
-    if (sets.Find(static_cast<std::size_t>(t[0])) != best_root) continue;
-    out.triangles.emplace_back(remap[static_cast<std::size_t>(t[0])],
-                               remap[static_cast<std::size_t>(t[1])],
-                               remap[static_cast<std::size_t>(t[2])]);
+    const auto v = static_cast<std::size_t>(t[0]);
+    if ((mesh.vertices[v] - point).norm() > radius_mm) continue;
+    const std::size_t root = sets.Find(v);
+    if (++near_of[root] > (best_root ? near_of[*best_root] : 0)) best_root = root;
   }
-  return out;
+  return best_root ? KeepComponent(mesh, sets, *best_root) : LargestConnectedComponent(mesh);
 }
 
 }  // namespace tofnav

@@ -2,6 +2,8 @@
 // Connected components of a triangle mesh over shared vertices.
 #pragma once
 
+#include <Eigen/Core>
+
 #include "tofnav/core/triangle_mesh.hpp"
 
 namespace tofnav {
@@ -10,5 +12,12 @@ namespace tofnav {
 /// triangles; ties go to the component of the earliest triangle. Vertices and triangles keep their
 /// relative order and per-vertex attributes; unused vertices are dropped.
 TriangleMesh LargestConnectedComponent(const TriangleMesh& mesh);
+
+/// The connected component with the most triangles within `radius_mm` of `point` (the surface
+/// around what a wearer looked at: not a larger drape beside it, nor a small fragment in front
+/// of it), kept as LargestConnectedComponent keeps its component; the largest when no triangle
+/// lies that close.
+TriangleMesh ConnectedComponentAround(const TriangleMesh& mesh, const Eigen::Vector3d& point,
+                                      double radius_mm);
 
 }  // namespace tofnav

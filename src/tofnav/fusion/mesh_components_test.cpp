@@ -57,5 +57,29 @@ TEST(LargestConnectedComponent, KeepsAttributesAndOrder) {
   EXPECT_TRUE(LargestConnectedComponent(TriangleMesh{}).vertices.empty());
 }
 
+TEST(ConnectedComponentAround, KeepsTheSurfaceLookedAtNotTheLargestNorAFragment) {
+  // The small sphere (radius 6 mm) is what the wearer looked at, beside a bigger one (a drape):
+  // a point 1 mm in front of it selects it whole, and nothing of the big one.
+  const Eigen::Vector3d big(15.2, 15.6, 15.4), small(40.3, 15.5, 15.7);
+  const TriangleMesh both = ExtractIsoSurface(TwoSpheres(big, small));
+  const TriangleMesh kept =
+      ConnectedComponentAround(both, small + Eigen::Vector3d(0, 0, -7.0), 10.0);
+  ASSERT_FALSE(kept.triangles.empty());
+  std::size_t small_vertices = 0;
+  for (const Eigen::Vector3d& v : both.vertices)
+    small_vertices += std::abs((v - small).norm() - 6.0) < 1.0 ? 1 : 0;
+  EXPECT_EQ(kept.vertices.size(), small_vertices);
+  for (const Eigen::Vector3d& v : kept.vertices) EXPECT_LT((v - small).norm(), 8.0);
+  // Between the two, with both within 30 mm, the one with more surface there wins: the big one
+  // (a fragment beside the head does not win by being nearest).
+  const Eigen::Vector3d between(29.0, 15.5, 15.5);  // 2 mm off the big one, 5 mm off the small
+  const TriangleMesh around = ConnectedComponentAround(both, between, 30.0);
+  for (const Eigen::Vector3d& v : around.vertices) EXPECT_NEAR((v - big).norm(), 12.0, 0.05);
+  // Nothing within the radius: the largest.
+  EXPECT_EQ(ConnectedComponentAround(both, Eigen::Vector3d(500, 0, 0), 10.0).vertices.size(),
+            LargestConnectedComponent(both).vertices.size());
+  EXPECT_TRUE(ConnectedComponentAround(TriangleMesh{}, small, 10.0).vertices.empty());
+}
+
 }  // namespace
 }  // namespace tofnav

@@ -74,6 +74,8 @@ void AutoRoiOptions::Check() const {
   Require(centre_window_px >= 1, "AutoRoiOptions::centre_window_px must be >= 1");
   Require(std::isfinite(radius_mm) && radius_mm > 0.0, "AutoRoiOptions::radius_mm must be > 0");
   Require(std::isfinite(margin_mm) && margin_mm >= 0.0, "AutoRoiOptions::margin_mm must be >= 0");
+  Require(frames >= 1, "AutoRoiOptions::frames must be >= 1");
+  Require(component_radius_mm > 0.0, "AutoRoiOptions::component_radius_mm must be > 0");
 }
 
 void ReconstructOptions::Check() const {
@@ -95,41 +97,61 @@ void ReconstructOptions::Check() const {
   pose_consistency.Check();
 }
 
-std::optional<Eigen::AlignedBox3d> AutomaticRoi(const Image<float>& range_mm,
+std::optional<Eigen::AlignedBox3d> AutomaticRoi(std::span<const RoiView> views,
                                                 const AhatCamera& camera,
-                                                const Rigid3d& tool_from_ahat,
-                                                const AutoRoiOptions& options) {
+                                                const AutoRoiOptions& options,
+                                                Eigen::Vector3d* centre_in_tool) {
   options.Check();
-  Require(range_mm.width() == camera.width() && range_mm.height() == camera.height(),
-          "AutomaticRoi: the range image must have the camera's size");
-  std::vector<Eigen::Vector3d> points;  // valid points in `tool`, and those of the centre window
-  std::vector<double> cx, cy, cz;
+  std::vector<std::vector<Eigen::Vector3d>> points(views.size());  // valid points in `tool`
+  std::vector<double> cx, cy, cz;                                  // the views' centres
+  std::vector<std::size_t> centred_views;                          // the views that have one
   const int u0 = (camera.width() - options.centre_window_px) / 2;
   const int v0 = (camera.height() - options.centre_window_px) / 2;
-  for (int v = 0; v < range_mm.height(); ++v) {
-    for (int u = 0; u < range_mm.width(); ++u) {
-      if (range_mm(u, v) <= 0.0f || !camera.IsValid(u, v)) continue;
-      const Eigen::Vector3d p = tool_from_ahat * camera.PointFromRange(u, v, range_mm(u, v));
-      points.push_back(p);
-      if (u >= u0 && v >= v0 && u < u0 + options.centre_window_px &&
-          v < v0 + options.centre_window_px) {
-        cx.push_back(p.x());
-        cy.push_back(p.y());
-        cz.push_back(p.z());
+  for (std::size_t k = 0; k < views.size(); ++k) {
+    const Image<float>& range_mm = *views[k].range_mm;
+    Require(range_mm.width() == camera.width() && range_mm.height() == camera.height(),
+            "AutomaticRoi: the range image must have the camera's size");
+    std::vector<double> x, y, z;  // the central window's points
+    for (int v = 0; v < range_mm.height(); ++v) {
+      for (int u = 0; u < range_mm.width(); ++u) {
+        if (range_mm(u, v) <= 0.0f || !camera.IsValid(u, v)) continue;
+        const Eigen::Vector3d p =
+            views[k].tool_from_ahat * camera.PointFromRange(u, v, range_mm(u, v));
+        points[k].push_back(p);
+        if (u >= u0 && v >= v0 && u < u0 + options.centre_window_px &&
+            v < v0 + options.centre_window_px) {
+          x.push_back(p.x());
+          y.push_back(p.y());
+          z.push_back(p.z());
+        }
       }
     }
-  }
-  if (cx.empty()) {  // nothing at the centre (e.g. only the head region is left): all points
-    for (const Eigen::Vector3d& p : points) {
-      cx.push_back(p.x());
-      cy.push_back(p.y());
-      cz.push_back(p.z());
+    if (x.empty()) {  // nothing at the centre (e.g. only the head region is left): all points
+      for (const Eigen::Vector3d& p : points[k]) {
+        x.push_back(p.x());
+        y.push_back(p.y());
+        z.push_back(p.z());
+      }
     }
+    if (x.empty()) continue;
+    cx.push_back(Median(x));
+    cy.push_back(Median(y));
+    cz.push_back(Median(z));
+    centred_views.push_back(k);
   }
   if (cx.empty()) return std::nullopt;
   const Eigen::Vector3d centre(Median(cx), Median(cy), Median(cz));
+  if (centre_in_tool) *centre_in_tool = centre;
+  // The box of the most typical view: the one whose own centre is nearest the consensus.
+  std::size_t typical = 0;
+  for (std::size_t i = 1; i < centred_views.size(); ++i) {
+    const auto distance = [&](std::size_t j) {
+      return (Eigen::Vector3d(cx[j], cy[j], cz[j]) - centre).squaredNorm();
+    };
+    if (distance(i) < distance(typical)) typical = i;
+  }
   Eigen::AlignedBox3d box(centre);
-  for (const Eigen::Vector3d& p : points) {
+  for (const Eigen::Vector3d& p : points[centred_views[typical]]) {
     if ((p - centre).norm() <= options.radius_mm) box.extend(p);
   }
   const Eigen::Vector3d margin = Eigen::Vector3d::Constant(options.margin_mm);
@@ -228,6 +250,35 @@ ReconstructResult ReconstructSurface(
   }
   std::optional<TsdfVolume> volume;
   if (options.tsdf.roi_in_tool) volume.emplace(options.tsdf, camera);
+  // Without a given ROI, the first posed frames wait (in order) until they have chosen it.
+  struct Waiting {
+    Image<float> range_mm;
+    Image<float> weight;
+    Rigid3d tool_from_ahat;
+  };
+  std::vector<Waiting> waiting;
+  std::optional<Eigen::Vector3d> looked_at_in_tool;  // the automatic ROI's centre
+  Eigen::Vector3d looked_at = Eigen::Vector3d::Zero();
+  const auto choose_roi = [&] {
+    std::vector<RoiView> views;
+    for (const Waiting& w : waiting) views.push_back({&w.range_mm, w.tool_from_ahat});
+    TsdfOptions tsdf = options.tsdf;
+    tsdf.roi_in_tool = AutomaticRoi(views, camera, options.auto_roi, &looked_at);
+    if (!tsdf.roi_in_tool) {  // nothing valid in any of them: they count as skipped
+      result.frames_skipped += waiting.size();
+      result.skipped_by_status["no_roi"] += waiting.size();
+      waiting.clear();
+      return;
+    }
+    result.roi_automatic = true;
+    looked_at_in_tool = looked_at;
+    volume.emplace(tsdf, camera);
+    for (Waiting& w : waiting) {
+      FuseChecked(*volume, std::move(w.range_mm), camera, w.tool_from_ahat, w.weight, options,
+                  result);
+    }
+    waiting.clear();
+  };
   BatchTimes times;
   ForEachInBatches<PreparedFrame>(
       posed.size(), kBatchFrames,
@@ -242,20 +293,15 @@ ReconstructResult ReconstructSurface(
         if (progress) progress(frames.size() + position + 1, total);
         const Rigid3d tool_from_ahat = p.tracked->ahat_from_tool->Inverse();
         if (!volume) {
-          TsdfOptions tsdf = options.tsdf;
-          tsdf.roi_in_tool = AutomaticRoi(p.range_mm, camera, tool_from_ahat, options.auto_roi);
-          if (!tsdf.roi_in_tool) {  // nothing valid at the image centre: try the next frame
-            ++result.frames_skipped;
-            ++result.skipped_by_status["no_roi"];
-            return;
-          }
-          result.roi_automatic = true;
-          volume.emplace(tsdf, camera);
+          waiting.push_back({std::move(p.range_mm), std::move(p.weight), tool_from_ahat});
+          if (static_cast<int>(waiting.size()) >= options.auto_roi.frames) choose_roi();
+          return;
         }
         FuseChecked(*volume, std::move(p.range_mm), camera, tool_from_ahat, p.weight, options,
                     result);
       },
       &times);
+  if (!volume && !waiting.empty()) choose_roi();  // fewer posed frames than the vote wants
   result.read_s += times.read_s;
   result.prepare_s += times.prepare_s;
   result.fuse_s += times.consume_s;
@@ -269,7 +315,14 @@ ReconstructResult ReconstructSurface(
   const Clock::time_point t = Clock::now();
   TriangleMesh mesh = ExtractIsoSurface(*volume, options.mesh);
   result.mesh_vertices_before_component = mesh.vertices.size();
-  result.mesh = options.largest_component ? LargestConnectedComponent(mesh) : std::move(mesh);
+  if (!options.largest_component) {
+    result.mesh = std::move(mesh);
+  } else if (looked_at_in_tool) {
+    result.mesh =
+        ConnectedComponentAround(mesh, *looked_at_in_tool, options.auto_roi.component_radius_mm);
+  } else {
+    result.mesh = LargestConnectedComponent(mesh);
+  }
   result.mesh_s = Seconds(t);
   result.total_s = Seconds(start);
   return result;

@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <span>
 #include <string>
 
 #include "tofnav/core/image.hpp"
@@ -40,6 +41,12 @@ struct AutoRoiOptions {
   int centre_window_px = 48;  // side of the central pixel window
   double radius_mm = 150.0;   // points farther from the centre are background
   double margin_mm = 30.0;
+  /// Posed frames whose centres vote: the ROI is centred on the median of their centre windows'
+  /// medians, so one frame that looks elsewhere (a hand at the centre, the drape) cannot move it.
+  int frames = 9;
+  /// The mesh keeps the component with the most surface within this distance of the ROI's
+  /// centre (ReconstructOptions::largest_component) [mm]: a head's front, not a fragment.
+  double component_radius_mm = 60.0;
   void Check() const;  // throws PreconditionError naming the bad field
 };
 
@@ -65,7 +72,9 @@ struct ReconstructOptions {
   std::size_t first_frame = 0;
   std::size_t frame_step = 1;             // fuse every n-th frame
   std::optional<std::size_t> max_frames;  // frames considered (after the step)
-  bool largest_component = true;          // keep the largest connected component only
+  /// Keep one connected component: with the automatic ROI the one nearest its centre (what the
+  /// wearer looked at: the head, not a larger drape or board beside it), else the largest.
+  bool largest_component = true;
   /// Fuse frames whose tool was matched with min_visible or more but not all markers (status
   /// partially_occluded): a tool made of several rigidly joined ones is rarely seen whole.
   bool accept_partially_occluded = true;
@@ -118,11 +127,21 @@ ReconstructResult ReconstructSurface(
     const ReconstructOptions& options = {},
     const std::function<void(std::size_t, std::size_t)>& progress = {});
 
-/// The automatic ROI of one frame's range image posed by tool_from_ahat (AutoRoiOptions);
-/// nullopt when the central window has no valid range.
-std::optional<Eigen::AlignedBox3d> AutomaticRoi(const Image<float>& range_mm,
+/// One posed range image for the automatic ROI.
+struct RoiView {
+  const Image<float>* range_mm = nullptr;
+  Rigid3d tool_from_ahat;
+};
+
+/// The automatic ROI of posed range images (AutoRoiOptions): centred on the component-wise
+/// median of each view's centre (the median of its central window's points in `tool`, or of all
+/// its points when that window is empty), bounding the points within radius_mm of it of the
+/// view whose own centre is nearest (the most typical view, as one frame chose it before), plus
+/// the margin. nullopt when no view has a valid range. `centre_in_tool`, when given, gets
+/// that centre (a point on what the wearer looked at).
+std::optional<Eigen::AlignedBox3d> AutomaticRoi(std::span<const RoiView> views,
                                                 const AhatCamera& camera,
-                                                const Rigid3d& tool_from_ahat,
-                                                const AutoRoiOptions& options = {});
+                                                const AutoRoiOptions& options = {},
+                                                Eigen::Vector3d* centre_in_tool = nullptr);
 
 }  // namespace tofnav

@@ -27,8 +27,8 @@ TEST(AutomaticRoi, BoundsTheSeenSphereCapPlusMargin) {
   AutoRoiOptions options;
   options.centre_window_px = 8;
   options.margin_mm = 30.0;
-  const std::optional<Eigen::AlignedBox3d> roi =
-      AutomaticRoi(range, camera, tool_from_ahat, options);
+  const RoiView view{&range, tool_from_ahat};
+  const std::optional<Eigen::AlignedBox3d> roi = AutomaticRoi({&view, 1}, camera, options);
   ASSERT_TRUE(roi.has_value());
   // Tangent circle of the cap: radius R sqrt(1 - (R/D)^2), at D - R^2 / D from the camera.
   const double rim_mm = kRadiusMm * std::sqrt(1.0 - std::pow(kRadiusMm / 300.0, 2));
@@ -37,8 +37,34 @@ TEST(AutomaticRoi, BoundsTheSeenSphereCapPlusMargin) {
   const Eigen::Vector3d hi(10 + rim_mm + 30, 20 + rim_mm + 30, 30 + rim_z_mm + 30);
   EXPECT_LE((roi->min() - lo).cwiseAbs().maxCoeff(), kPixelFootprintMm) << roi->min().transpose();
   EXPECT_LE((roi->max() - hi).cwiseAbs().maxCoeff(), kPixelFootprintMm) << roi->max().transpose();
-  // Nothing valid at the centre: no ROI.
-  EXPECT_FALSE(AutomaticRoi(Image<float>(128, 128, 0.0f), camera, tool_from_ahat, options));
+  // Nothing valid anywhere: no ROI.
+  const Image<float> empty(128, 128, 0.0f);
+  const RoiView nothing{&empty, tool_from_ahat};
+  EXPECT_FALSE(AutomaticRoi({&nothing, 1}, camera, options));
+}
+
+TEST(AutomaticRoi, OneFrameLookingElsewhereDoesNotMoveIt) {
+  // Five frames see the 50 mm sphere 300 mm ahead; the first sees only a second sphere 250 mm to
+  // the side (a hand, the drape). The ROI is that of the five, not one around the stray view.
+  const AhatCamera camera(SmallFisheyeCalibration(128));
+  const Rigid3d tool_from_ahat(Eigen::Quaterniond::Identity(), Eigen::Vector3d(10, 20, 30));
+  const Image<float> head = RenderSphere(camera, tool_from_ahat, {10, 20, 330}, 50.0);
+  const Rigid3d turned(Eigen::Quaterniond::Identity(), Eigen::Vector3d(260, 20, 30));
+  const Image<float> stray = RenderSphere(camera, turned, {260, 20, 330}, 50.0);
+  AutoRoiOptions options;
+  options.centre_window_px = 8;
+  std::vector<RoiView> views = {{&stray, turned}};
+  for (int k = 0; k < 5; ++k) views.push_back({&head, tool_from_ahat});
+  const std::optional<Eigen::AlignedBox3d> roi = AutomaticRoi(views, camera, options);
+  const RoiView alone{&head, tool_from_ahat};
+  const std::optional<Eigen::AlignedBox3d> head_only = AutomaticRoi({&alone, 1}, camera, options);
+  ASSERT_TRUE(roi && head_only);
+  // The stray sphere is 250 mm off: none of it lies within the 150 mm radius of the centre.
+  EXPECT_LE((roi->min() - head_only->min()).cwiseAbs().maxCoeff(), kExactTolMm);
+  EXPECT_LE((roi->max() - head_only->max()).cwiseAbs().maxCoeff(), kExactTolMm);
+  // Alone, the stray view would have placed the ROI around itself.
+  const RoiView first{&stray, turned};
+  EXPECT_GT(AutomaticRoi({&first, 1}, camera, options)->center().x(), 150.0);
 }
 
 TEST(ReconstructOptions, CheckNamesTheBadField) {
