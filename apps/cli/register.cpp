@@ -90,6 +90,8 @@ Report RegisterSurfaces(const std::filesystem::path& reconstruction_path,
   report.figures["rotation_conditioning"] = q.conditioning.rotation;
   report.figures["translation_conditioning"] = q.conditioning.translation;
   report.figures["ambiguity"] = q.ambiguity;
+  report.figures["ambiguity_shift_mm"] = q.ambiguity_shift_mm;
+  report.figures["effective_samples"] = q.effective_samples;
   report.figures["max_predicted_tre_mm"] = q.max_predicted_tre_mm;
   report.figures["icp_iterations"] = result.icp.iterations;
   report.figures["coarse_hypotheses"] = result.coarse.hypotheses;
@@ -136,7 +138,12 @@ int RunRegister(int argc, char** argv) {
   app.add_option("--min-conditioning", t.min_rotation_conditioning,
                  "refuse below this rotation conditioning");
   app.add_option("--max-tre", t.max_predicted_tre_mm, "refuse above this predicted TRE [mm]");
-  app.add_option("--max-ambiguity", t.max_ambiguity, "refuse above this cost ratio");
+  app.add_option("--max-ambiguity", t.max_ambiguity,
+                 "refuse above this cost ratio to the best distinct alternative pose (the floor: "
+                 "raised for large surfaces by --ambiguity-z)");
+  app.add_option("--ambiguity-z", t.ambiguity_z,
+                 "an alternative is distinct when its cost exceeds the best's by more than this "
+                 "many standard errors, z sqrt(2 / N_eff) (docs/registration.md)");
   app.add_option("--max-fre", max_fre_mm, "paired points: refuse above this FRE [mm]");
   app.add_flag("--force", force, "write the transform even when refused (status in the JSON)");
   app.add_flag("-q,--quiet", quiet, "no progress bar, no report");

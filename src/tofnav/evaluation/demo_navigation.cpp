@@ -72,6 +72,8 @@ void RunDemoRegistration(DemoContext& ctx, DemoJson& stage) {
   stage["rmse_mm"] = q.rmse_mm;
   stage["inlier_fraction"] = q.inlier_fraction;
   stage["ambiguity"] = q.ambiguity;
+  stage["ambiguity_shift_mm"] = q.ambiguity_shift_mm;
+  stage["effective_samples"] = q.effective_samples;
   stage["max_predicted_tre_mm"] = q.max_predicted_tre_mm;
   stage["tre_mm"] = tre_mm;
   stage["tre_max_mm"] = tre_max;

@@ -82,16 +82,28 @@ RegisterSurfaceResult RegisterSurface(const PointCloud& reconstruction_in_tool,
   const Eigen::Vector3d centroid =
       std::accumulate(points.begin(), points.end(), Eigen::Vector3d(0, 0, 0)) /
       static_cast<double>(std::max<std::size_t>(points.size(), 1));
-  double ambiguity = 0.0;
+  double ambiguity = 0.0, ambiguity_shift_mm = 0.0;
+  const Rigid3d& best_pose = fits[best].target_from_source;
   for (std::size_t i = 0; i < fits.size(); ++i) {
-    if (i == best || SamePose(fits[i].target_from_source, fits[best].target_from_source, centroid))
-      continue;
+    if (i == best || SamePose(fits[i].target_from_source, best_pose, centroid)) continue;
     const double cost = RobustCost(fits[i], gate_mm), best_cost = RobustCost(fits[best], gate_mm);
-    ambiguity = std::max(ambiguity, cost <= best_cost ? 1.0 : best_cost / cost);
+    const double ratio = cost <= best_cost ? 1.0 : best_cost / cost;
+    if (ratio <= ambiguity) continue;
+    ambiguity = ratio;
+    // Where the alternative would put what the best pose puts at each target (image frame).
+    const Rigid3d alternative_from_best = fits[i].target_from_source * best_pose.Inverse();
+    ambiguity_shift_mm = 0.0;
+    for (const Eigen::Vector3d& q : targets_in_image) {
+      ambiguity_shift_mm = std::max(ambiguity_shift_mm, (alternative_from_best * q - q).norm());
+    }
+    if (targets_in_image.empty()) {
+      const Eigen::Vector3d c = best_pose * centroid;
+      ambiguity_shift_mm = (alternative_from_best * c - c).norm();
+    }
   }
   result.icp = std::move(fits[best]);
-  result.quality =
-      AssessRegistration(result.icp, points, targets_in_image, options.thresholds, ambiguity);
+  result.quality = AssessRegistration(result.icp, points, targets_in_image, options.thresholds,
+                                      ambiguity, ambiguity_shift_mm);
   result.tool_from_image = result.icp.target_from_source.Inverse();
   return result;
 }

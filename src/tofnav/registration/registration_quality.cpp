@@ -17,9 +17,9 @@ namespace {
 
 constexpr double kSingular = 1e-12;  // relative eigenvalue below which J^T J is singular
 
-std::string Format(const char* format, double a, double b) {
+std::string Format(const char* format, double a, double b, double c = 0.0) {
   char text[256];
-  std::snprintf(text, sizeof(text), format, a, b);
+  std::snprintf(text, sizeof(text), format, a, b, c);
   return text;
 }
 
@@ -53,10 +53,11 @@ std::pair<RegistrationStatus, std::string> Decide(const IcpResult& icp,
             Format("the surface leaves the translation free (conditioning %.2g < %.2g)",
                    q.conditioning.translation, t.min_translation_conditioning)};
   }
-  if (q.ambiguity > t.max_ambiguity) {
-    return {S::kAmbiguous, Format("another pose fits almost as well (cost ratio %.2f > %.2f): "
-                                  "the surface is too symmetric or featureless to register",
-                                  q.ambiguity, t.max_ambiguity)};
+  if (const double limit = AmbiguityLimit(q.effective_samples, t); q.ambiguity > limit) {
+    return {S::kAmbiguous,
+            Format("another pose fits almost as well (cost ratio %.2f > %.2f, %.0f mm away at a "
+                   "target): the surface is too symmetric or featureless to register",
+                   q.ambiguity, limit, q.ambiguity_shift_mm)};
   }
   if (!icp.converged) {
     return {S::kNotConverged, Format("ICP did not converge in %.0f iterations (inlier fraction "
@@ -72,6 +73,12 @@ std::pair<RegistrationStatus, std::string> Decide(const IcpResult& icp,
 
 }  // namespace
 
+double AmbiguityLimit(int effective_samples, const RegistrationThresholds& t) {
+  if (effective_samples < 1) return t.max_ambiguity;
+  const double noise = t.ambiguity_z * std::sqrt(2.0 / effective_samples);
+  return std::max(t.max_ambiguity, 1.0 / (1.0 + noise));
+}
+
 void RegistrationThresholds::Check() const {
   Require(max_rmse_mm > 0.0, "RegistrationThresholds.max_rmse_mm must be > 0");
   Require(min_inlier_fraction >= 0.0 && min_inlier_fraction <= 1.0,
@@ -81,6 +88,7 @@ void RegistrationThresholds::Check() const {
   Require(max_predicted_tre_mm > 0.0, "RegistrationThresholds.max_predicted_tre_mm must be > 0");
   Require(correlation_length_mm > 0.0, "RegistrationThresholds.correlation_length_mm must be > 0");
   Require(max_ambiguity > 0.0, "RegistrationThresholds.max_ambiguity must be > 0");
+  Require(ambiguity_z >= 0.0, "RegistrationThresholds.ambiguity_z must be >= 0");
 }
 
 std::vector<double> PredictSurfaceTreMm(const IcpResult& icp, const Points3d& source_points,
@@ -111,7 +119,8 @@ std::vector<double> PredictSurfaceTreMm(const IcpResult& icp, const Points3d& so
 
 RegistrationQuality AssessRegistration(const IcpResult& icp, const Points3d& source_points,
                                        std::span<const Eigen::Vector3d> targets_in_target,
-                                       const RegistrationThresholds& thresholds, double ambiguity) {
+                                       const RegistrationThresholds& thresholds, double ambiguity,
+                                       double ambiguity_shift_mm) {
   thresholds.Check();
   RegistrationQuality q;
   q.rmse_mm = icp.rmse_mm;
@@ -119,6 +128,10 @@ RegistrationQuality AssessRegistration(const IcpResult& icp, const Points3d& sou
   q.residual_sigma_mm = icp.residual_sigma_mm;
   q.conditioning = icp.conditioning;
   q.ambiguity = ambiguity;
+  q.ambiguity_shift_mm = ambiguity_shift_mm;
+  q.effective_samples = static_cast<int>(
+      VoxelSubsample(Gather(source_points, icp.inlier_indices), thresholds.correlation_length_mm)
+          .size());
   q.predicted_tre_mm =
       PredictSurfaceTreMm(icp, source_points, targets_in_target, thresholds.correlation_length_mm);
   for (const double tre : q.predicted_tre_mm)

@@ -16,15 +16,19 @@ namespace tofnav {
 
 /// Refusal thresholds: a registration failing any of them is refused, never returned as usable.
 struct RegistrationThresholds {
-  /// RMS point-to-plane residual of the inliers; docs/registration.md says why 0.8 mm.
-  double max_rmse_mm = 0.8;
+  /// RMS point-to-plane residual of the inliers; docs/registration.md says why 0.9 mm.
+  double max_rmse_mm = 0.9;
   double min_inlier_fraction = 0.5;             // of the reconstruction, within the finest ICP gate
   double min_rotation_conditioning = 0.005;     // PoseConditioning::rotation (sphere: ~0)
   double min_translation_conditioning = 0.005;  // PoseConditioning::translation (plane: ~0)
   double max_predicted_tre_mm = 1.0;            // at every given target
   /// Robust cost of the chosen pose over that of the best distinct alternative (0 = a clear
-  /// winner, 1 = another pose fits as well): above this the surface is ambiguous.
-  double max_ambiguity = 0.7;  // docs/registration.md says why
+  /// winner, 1 = another pose fits as well): the surface is ambiguous above this ratio or, with
+  /// many independent samples, above the ratio at which the alternative's excess cost is still
+  /// within ambiguity_z standard errors of a mean of squares, 1 / (1 + z sqrt(2 / N_eff)),
+  /// whichever is higher. docs/registration.md says why.
+  double max_ambiguity = 0.7;
+  double ambiguity_z = 3.0;
   /// Residual errors of a fused surface are correlated over a few millimetres (TSDF, depth
   /// bias): the TRE prediction counts one independent sample per cell of this size.
   double correlation_length_mm = 5.0;
@@ -52,6 +56,11 @@ struct RegistrationQuality {
   std::vector<double> predicted_tre_mm;  // one per target; infinity when unconstrained
   double max_predicted_tre_mm = 0.0;
   double ambiguity = 0.0;  // see RegistrationThresholds::max_ambiguity; 0 without alternatives
+  /// How far the best distinct alternative pose would move the targets (the largest; without
+  /// targets, the reconstruction's centroid) [mm]; 0 without alternatives.
+  double ambiguity_shift_mm = 0.0;
+  /// Independent samples of the fit: cells of correlation_length_mm occupied by the inliers.
+  int effective_samples = 0;
   bool accepted() const { return status == RegistrationStatus::kOk; }
 };
 
@@ -66,10 +75,15 @@ std::vector<double> PredictSurfaceTreMm(const IcpResult& icp, const Points3d& so
 
 /// The quality figures of an ICP solution and the refusal decision.
 /// @param ambiguity  cost ratio to the best distinct alternative pose (0 when there is none)
+/// @param ambiguity_shift_mm  how far that alternative moves the targets
 RegistrationQuality AssessRegistration(const IcpResult& icp, const Points3d& source_points,
                                        std::span<const Eigen::Vector3d> targets_in_target,
                                        const RegistrationThresholds& thresholds = {},
-                                       double ambiguity = 0.0);
+                                       double ambiguity = 0.0, double ambiguity_shift_mm = 0.0);
+
+/// The ambiguity ratio above which a fit of `effective_samples` independent samples is refused
+/// (RegistrationThresholds::max_ambiguity, ambiguity_z).
+double AmbiguityLimit(int effective_samples, const RegistrationThresholds& thresholds);
 
 /// "ok", "no-overlap", ... for reports.
 const char* ToString(RegistrationStatus status);

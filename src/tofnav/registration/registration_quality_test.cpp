@@ -92,5 +92,29 @@ TEST(AssessRegistration, RefusesInOrderAndSaysWhy) {
             RegistrationStatus::kHighPredictedTre);
 }
 
+TEST(AmbiguityLimit, RisesWithTheIndependentSamples) {
+  // A mean of squares over N independent samples has a relative standard error sqrt(2 / N): an
+  // alternative is distinct when its cost exceeds the best's by 3 of them.
+  const RegistrationThresholds t;
+  EXPECT_DOUBLE_EQ(AmbiguityLimit(0, t), 0.7);   // unknown: the floor
+  EXPECT_DOUBLE_EQ(AmbiguityLimit(20, t), 0.7);  // 1 / (1 + 0.95) = 0.51 is below the floor
+  EXPECT_NEAR(AmbiguityLimit(100, t), 1.0 / (1.0 + 3.0 * std::sqrt(0.02)), 1e-12);  // 0.70
+  EXPECT_NEAR(AmbiguityLimit(3000, t), 0.928, 5e-4);  // the suite's fused heads
+}
+
+TEST(AssessRegistration, AnAlternativeTheDataTellApartIsNotAmbiguous) {
+  // 3000 inliers 10 mm apart: 3000 independent cells. The phantom's mirror pose in the suite
+  // costs 28 % more (ratio 0.78): 11 standard errors, not ambiguous; 5 % more (0.95) is.
+  Points3d sources;
+  const IcpResult fit = IsotropicFit(3000, 4000.0, 0.3, sources);
+  const std::vector<Eigen::Vector3d> targets = {Eigen::Vector3d(0, 60, 0)};
+  const RegistrationQuality clear = AssessRegistration(fit, sources, targets, {}, 0.78, 86.0);
+  EXPECT_EQ(clear.effective_samples, 3000);
+  EXPECT_EQ(clear.status, RegistrationStatus::kOk);
+  const RegistrationQuality close = AssessRegistration(fit, sources, targets, {}, 0.95, 86.0);
+  EXPECT_EQ(close.status, RegistrationStatus::kAmbiguous);
+  EXPECT_NE(close.message.find("86 mm away"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace tofnav
