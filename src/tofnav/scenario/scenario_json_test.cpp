@@ -70,6 +70,15 @@ constexpr const char* kFull = R"({
              "sensor": {"floor_depth": true}}
 })";
 
+TEST(ParseScenarioJson, StickersAreTapeUnlessTheyAreSaidNotToConform) {
+  const std::string head = R"({"patient": {"head": "phantom"}, "tools": [{"name": "s", "stickers":
+      {"azimuth_elevation_rad": [[0.1, 0.5]], "conform": )";
+  EXPECT_EQ(Parse(head + "true}}]}").scene.tools[0].markers[0].conforms_to_object,
+            Parse(head + "true}}]}").patient->object);
+  EXPECT_EQ(Parse(head + "false}}]}").scene.tools[0].markers[0].conforms_to_object, -1);
+  ExpectError(head + "3}}]}", "conform");
+}
+
 TEST(ParseScenarioJson, ReadsEveryPartOfTheSchema) {
   const sim::Scenario s = Parse(kFull);
   EXPECT_EQ(s.name, "bench-test");
@@ -109,6 +118,7 @@ TEST(ParseScenarioJson, ReadsEveryPartOfTheSchema) {
   EXPECT_EQ(s.scene.tools[1].markers[0].shape, sim::MarkerShape::kSphere);
   EXPECT_EQ(s.scene.tools[1].markers[1].normal_in_tool, Eigen::Vector3d::UnitZ());
   EXPECT_EQ(s.scene.tools[2].markers.size(), 2u);
+  EXPECT_EQ(s.scene.tools[2].markers[0].conforms_to_object, s.patient->object);  // tape
   EXPECT_EQ(s.tool_mounts[2], 1);
   EXPECT_EQ(s.ToolsRigidWithPatient(), std::vector<int>{2});
   // Camera, timing, render.
