@@ -97,46 +97,60 @@ void ReconstructOptions::Check() const {
   pose_consistency.Check();
 }
 
+namespace {
+
+// Calls f(u, v, point_in_tool) for every valid pixel of a view.
+template <typename F>
+void ForEachRoiPoint(const RoiView& view, const AhatCamera& camera, F&& f) {
+  const Image<float>& range_mm = *view.range_mm;
+  Require(range_mm.width() == camera.width() && range_mm.height() == camera.height(),
+          "AutomaticRoi: the range image must have the camera's size");
+  for (int v = 0; v < range_mm.height(); ++v) {
+    for (int u = 0; u < range_mm.width(); ++u) {
+      if (range_mm(u, v) <= 0.0f || !camera.IsValid(u, v)) continue;
+      f(u, v, view.tool_from_ahat * camera.PointFromRange(u, v, range_mm(u, v)));
+    }
+  }
+}
+
+// A view's centre: the component-wise median of its central window's points, or of all its
+// points when that window is empty (e.g. only the head region is left); nullopt without any.
+std::optional<Eigen::Vector3d> RoiViewCentre(const RoiView& view, const AhatCamera& camera,
+                                             const AutoRoiOptions& options) {
+  const int u0 = (camera.width() - options.centre_window_px) / 2;
+  const int v0 = (camera.height() - options.centre_window_px) / 2;
+  std::vector<double> x, y, z;
+  const auto add = [&](const Eigen::Vector3d& p) {
+    x.push_back(p.x());
+    y.push_back(p.y());
+    z.push_back(p.z());
+  };
+  ForEachRoiPoint(view, camera, [&](int u, int v, const Eigen::Vector3d& p) {
+    if (u >= u0 && v >= v0 && u < u0 + options.centre_window_px &&
+        v < v0 + options.centre_window_px) {
+      add(p);
+    }
+  });
+  if (x.empty()) ForEachRoiPoint(view, camera, [&](int, int, const Eigen::Vector3d& p) { add(p); });
+  if (x.empty()) return std::nullopt;
+  return Eigen::Vector3d(Median(std::move(x)), Median(std::move(y)), Median(std::move(z)));
+}
+
+}  // namespace
+
 std::optional<Eigen::AlignedBox3d> AutomaticRoi(std::span<const RoiView> views,
                                                 const AhatCamera& camera,
                                                 const AutoRoiOptions& options,
                                                 Eigen::Vector3d* centre_in_tool) {
   options.Check();
-  std::vector<std::vector<Eigen::Vector3d>> points(views.size());  // valid points in `tool`
-  std::vector<double> cx, cy, cz;                                  // the views' centres
-  std::vector<std::size_t> centred_views;                          // the views that have one
-  const int u0 = (camera.width() - options.centre_window_px) / 2;
-  const int v0 = (camera.height() - options.centre_window_px) / 2;
+  std::vector<double> cx, cy, cz;          // the views' centres
+  std::vector<std::size_t> centred_views;  // the views that have one
   for (std::size_t k = 0; k < views.size(); ++k) {
-    const Image<float>& range_mm = *views[k].range_mm;
-    Require(range_mm.width() == camera.width() && range_mm.height() == camera.height(),
-            "AutomaticRoi: the range image must have the camera's size");
-    std::vector<double> x, y, z;  // the central window's points
-    for (int v = 0; v < range_mm.height(); ++v) {
-      for (int u = 0; u < range_mm.width(); ++u) {
-        if (range_mm(u, v) <= 0.0f || !camera.IsValid(u, v)) continue;
-        const Eigen::Vector3d p =
-            views[k].tool_from_ahat * camera.PointFromRange(u, v, range_mm(u, v));
-        points[k].push_back(p);
-        if (u >= u0 && v >= v0 && u < u0 + options.centre_window_px &&
-            v < v0 + options.centre_window_px) {
-          x.push_back(p.x());
-          y.push_back(p.y());
-          z.push_back(p.z());
-        }
-      }
-    }
-    if (x.empty()) {  // nothing at the centre (e.g. only the head region is left): all points
-      for (const Eigen::Vector3d& p : points[k]) {
-        x.push_back(p.x());
-        y.push_back(p.y());
-        z.push_back(p.z());
-      }
-    }
-    if (x.empty()) continue;
-    cx.push_back(Median(x));
-    cy.push_back(Median(y));
-    cz.push_back(Median(z));
+    const std::optional<Eigen::Vector3d> c = RoiViewCentre(views[k], camera, options);
+    if (!c) continue;
+    cx.push_back(c->x());
+    cy.push_back(c->y());
+    cz.push_back(c->z());
     centred_views.push_back(k);
   }
   if (cx.empty()) return std::nullopt;
@@ -151,9 +165,9 @@ std::optional<Eigen::AlignedBox3d> AutomaticRoi(std::span<const RoiView> views,
     if (distance(i) < distance(typical)) typical = i;
   }
   Eigen::AlignedBox3d box(centre);
-  for (const Eigen::Vector3d& p : points[centred_views[typical]]) {
+  ForEachRoiPoint(views[centred_views[typical]], camera, [&](int, int, const Eigen::Vector3d& p) {
     if ((p - centre).norm() <= options.radius_mm) box.extend(p);
-  }
+  });
   const Eigen::Vector3d margin = Eigen::Vector3d::Constant(options.margin_mm);
   return Eigen::AlignedBox3d(box.min() - margin, box.max() + margin);
 }
@@ -258,11 +272,11 @@ ReconstructResult ReconstructSurface(
   };
   std::vector<Waiting> waiting;
   std::optional<Eigen::Vector3d> looked_at_in_tool;  // the automatic ROI's centre
-  Eigen::Vector3d looked_at = Eigen::Vector3d::Zero();
   const auto choose_roi = [&] {
     std::vector<RoiView> views;
     for (const Waiting& w : waiting) views.push_back({&w.range_mm, w.tool_from_ahat});
     TsdfOptions tsdf = options.tsdf;
+    Eigen::Vector3d looked_at = Eigen::Vector3d::Zero();
     tsdf.roi_in_tool = AutomaticRoi(views, camera, options.auto_roi, &looked_at);
     if (!tsdf.roi_in_tool) {  // nothing valid in any of them: they count as skipped
       result.frames_skipped += waiting.size();

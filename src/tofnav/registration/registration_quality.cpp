@@ -91,14 +91,22 @@ void RegistrationThresholds::Check() const {
   Require(ambiguity_z >= 0.0, "RegistrationThresholds.ambiguity_z must be >= 0");
 }
 
-std::vector<double> PredictSurfaceTreMm(const IcpResult& icp, const Points3d& source_points,
-                                        std::span<const Eigen::Vector3d> targets_in_target,
-                                        double correlation_length_mm) {
+namespace {
+
+// Cells of correlation_length_mm occupied by the ICP's inliers: its independent samples.
+std::size_t EffectiveSamples(const IcpResult& icp, const Points3d& source_points,
+                             double correlation_length_mm) {
+  return VoxelSubsample(Gather(source_points, icp.inlier_indices), correlation_length_mm).size();
+}
+
+// PredictSurfaceTreMm with the effective sample count already known.
+std::vector<double> PredictTre(const IcpResult& icp, std::size_t effective_samples,
+                               std::span<const Eigen::Vector3d> targets_in_target) {
   std::vector<double> tre(targets_in_target.size(), std::numeric_limits<double>::infinity());
-  const Points3d inliers = Gather(source_points, icp.inlier_indices);
-  if (inliers.size() < 6) return tre;
-  const auto cells = static_cast<double>(VoxelSubsample(inliers, correlation_length_mm).size());
-  const double inflation = static_cast<double>(inliers.size()) / cells;  // N / N_eff >= 1
+  const std::size_t inliers = icp.inlier_indices.size();
+  if (inliers < 6) return tre;
+  const double inflation =  // N / N_eff >= 1
+      static_cast<double>(inliers) / static_cast<double>(effective_samples);
   const Eigen::SelfAdjointEigenSolver<Matrix6d> solver(icp.information);
   const Vector6d& values = solver.eigenvalues();
   if (!(values(0) > kSingular * values(5))) return tre;
@@ -117,6 +125,15 @@ std::vector<double> PredictSurfaceTreMm(const IcpResult& icp, const Points3d& so
   return tre;
 }
 
+}  // namespace
+
+std::vector<double> PredictSurfaceTreMm(const IcpResult& icp, const Points3d& source_points,
+                                        std::span<const Eigen::Vector3d> targets_in_target,
+                                        double correlation_length_mm) {
+  return PredictTre(icp, EffectiveSamples(icp, source_points, correlation_length_mm),
+                    targets_in_target);
+}
+
 RegistrationQuality AssessRegistration(const IcpResult& icp, const Points3d& source_points,
                                        std::span<const Eigen::Vector3d> targets_in_target,
                                        const RegistrationThresholds& thresholds, double ambiguity,
@@ -129,11 +146,10 @@ RegistrationQuality AssessRegistration(const IcpResult& icp, const Points3d& sou
   q.conditioning = icp.conditioning;
   q.ambiguity = ambiguity;
   q.ambiguity_shift_mm = ambiguity_shift_mm;
-  q.effective_samples = static_cast<int>(
-      VoxelSubsample(Gather(source_points, icp.inlier_indices), thresholds.correlation_length_mm)
-          .size());
-  q.predicted_tre_mm =
-      PredictSurfaceTreMm(icp, source_points, targets_in_target, thresholds.correlation_length_mm);
+  const std::size_t samples =
+      EffectiveSamples(icp, source_points, thresholds.correlation_length_mm);
+  q.effective_samples = static_cast<int>(samples);
+  q.predicted_tre_mm = PredictTre(icp, samples, targets_in_target);
   for (const double tre : q.predicted_tre_mm)
     q.max_predicted_tre_mm = std::max(q.max_predicted_tre_mm, tre);
   std::tie(q.status, q.message) = Decide(icp, q, thresholds);
