@@ -45,7 +45,8 @@ void AppendPose(std::string& row, const std::optional<Rigid3d>& pose) {
   const Eigen::Quaterniond& q = pose->rotation;
   for (const double v : {q.w(), q.x(), q.y(), q.z(), pose->translation.x(), pose->translation.y(),
                          pose->translation.z()}) {
-    row += "," + Number(v);
+    row += ',';  // not "," + Number(v): GCC 12 -O3 warns falsely on that insert (bug 105651)
+    row += Number(v);
   }
 }
 
