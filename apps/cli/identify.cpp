@@ -14,6 +14,7 @@
 #include "progress.hpp"
 #include "tofnav/casefile/depth_model_json.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
+#include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/recording/hl2ss_calibration.hpp"
 #include "tofnav/recording/open_recording.hpp"
@@ -51,6 +52,7 @@ int RunIdentify(int argc, char** argv) {
       "tofnav identify"};
   AddConfigOptions(app);
   std::filesystem::path recording_path, calibration_path, ct_path, skin_path, frf_path, out_path;
+  std::vector<std::filesystem::path> tool_paths;
   std::optional<double> sample_offset;
   int max_frames = 300, folds = 0;
   std::optional<double> iso_hu;
@@ -68,6 +70,10 @@ int RunIdentify(int argc, char** argv) {
   app.add_option("--ct-skin-hu", iso_hu, "skin threshold [HU] (with --ct; unset: as tofnav skin)");
   app.add_option("--marker-error", frf_path, "f_rf JSON (Eq. 1) for marker pixels");
   app.add_option("--out", out_path, "depth_model.json to write")->required();
+  app.add_option(
+         "--tool", tool_paths,
+         "tool JSON or NDI .rom (repeatable): its markers, tracked in each frame, are left out")
+      ->check(CLI::ExistingFile);
   app.add_option("--max-frames", max_frames, "frames used, evenly spread")
       ->check(CLI::PositiveNumber);
   app.add_option("--model", angle_term, "angle term: theta (paper), theta2, 1-cos");
@@ -125,6 +131,8 @@ int RunIdentify(int argc, char** argv) {
   identify.start = start;
   identify.sampling = sampling;
   identify.identification = options;
+  for (const std::filesystem::path& p : tool_paths)
+    identify.exclude_tools.push_back(ReadToolFile(p));
   ProgressBar progress("identify: frames", quiet || json);
   const IdentifyRecordingResult result = IdentifyFromRecording(
       *recording, camera, frf, skin ? &*skin : nullptr, identify,
@@ -150,6 +158,10 @@ int RunIdentify(int argc, char** argv) {
                                {"multipath_removed", m.multipath.enabled},
                                {"frames", m.report.frames_used}};
     out.update(LeftOutToJson(m.report));
+    nlohmann::ordered_json tools = nlohmann::ordered_json::object();
+    for (const auto& [name, count] : result.tool_marker_observations_left_out) tools[name] = count;
+    out["tool_marker_observations_left_out"] = tools;
+    out["frames_with_tool_markers"] = result.frames_with_tool_markers;
     out.update(nlohmann::ordered_json{{"initial_cost_mm2", m.report.initial_cost},
                                       {"final_cost_mm2", m.report.final_cost},
                                       {"seconds", m.report.seconds},
@@ -170,6 +182,11 @@ int RunIdentify(int argc, char** argv) {
             << "  multipath " << (m.multipath.enabled ? "removed first" : "not removed")
             << " (docs/correction.md 7)\n";
   PrintLeftOut(m.report);
+  for (const auto& [name, count] : result.tool_marker_observations_left_out) {
+    std::cout << "  tool " << name << ": " << count
+              << " marker observations left out before the sticker tests (in "
+              << result.frames_with_tool_markers << " frames with any tool marker)\n";
+  }
   for (const auto& [name, cost] : m.report.cross_validation) {
     std::cout << "  held-out Err_S^2 " << name << ": " << cost << " mm^2\n";
   }

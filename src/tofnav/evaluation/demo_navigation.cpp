@@ -90,16 +90,8 @@ void RunDemoRegistration(DemoContext& ctx, DemoJson& stage) {
   }
 }
 
-void RunDemoTracking(DemoContext& ctx, DemoJson& stage) {
-  Require(ctx.session.has_value(), "no patient session (its simulation failed)");
-  RecordingWithCamera opened = OpenRecordingWithCamera(ctx.session_dir / "rm_depth_ahat.bin",
-                                                       ctx.session_dir / "calibration");
-  MarkerSource source;
-  source.frames = opened.recording->frame_count();
-  source.recording = std::move(opened.recording);
-  source.camera = std::move(opened.camera);
-  const MarkerDetectionOptions detection;
-  // The headframe's tools and any instrument; skin stickers are for identification, not a tool.
+std::vector<ToolGeometry> SessionTrackedTools(const DemoContext& ctx) {
+  Require(ctx.session.has_value(), "no simulated session");
   const std::vector<int> headframe = HeadframeTools(*ctx.session);
   const std::vector<int> on_patient = ctx.session->ToolsRigidWithPatient();
   std::vector<ToolGeometry> tools;
@@ -111,6 +103,19 @@ void RunDemoTracking(DemoContext& ctx, DemoJson& stage) {
         ctx.session_dir / "tools" / (ctx.session->scene.tools[i].name + ".json");
     if (!sticker && std::filesystem::exists(file)) tools.push_back(ReadToolJson(file));
   }
+  return tools;
+}
+
+void RunDemoTracking(DemoContext& ctx, DemoJson& stage) {
+  Require(ctx.session.has_value(), "no patient session (its simulation failed)");
+  RecordingWithCamera opened = OpenRecordingWithCamera(ctx.session_dir / "rm_depth_ahat.bin",
+                                                       ctx.session_dir / "calibration");
+  MarkerSource source;
+  source.frames = opened.recording->frame_count();
+  source.recording = std::move(opened.recording);
+  source.camera = std::move(opened.camera);
+  const MarkerDetectionOptions detection;
+  const std::vector<ToolGeometry> tools = SessionTrackedTools(ctx);
   Require(!tools.empty(), "the session wrote no tool file");
   const std::vector<ToolPoseRecord> records = TrackTools(
       source, detection, tools, ToolTrackerOptions{}, ctx.frf.value_or(MarkerRangeModel{}),

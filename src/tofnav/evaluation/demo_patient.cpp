@@ -60,6 +60,12 @@ const std::string& PatientObjectName(const sim::Scenario& s) {
   return s.scene.objects[static_cast<std::size_t>(s.patient->object)].name;
 }
 
+std::int64_t ToolMarkersLeftOut(const IdentifyRecordingResult& r) {
+  std::int64_t n = 0;
+  for (const auto& [name, count] : r.tool_marker_observations_left_out) n += count;
+  return n;
+}
+
 }  // namespace
 
 void RunDemoSession(DemoContext& ctx, DemoJson& stage) {
@@ -99,6 +105,8 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   const SurfaceIndex skin(SkinIsoSurface(ReadVolume(ctx.session_dir / "ct.nrrd")));
   IdentifyRecordingOptions options;  // the automatic head region leaves the headframe out
   options.max_frames = static_cast<int>(ctx.session_frames);
+  // Tracked tools' markers are left out before the sticker tests (docs/correction.md 2).
+  if (ctx.session) options.exclude_tools = SessionTrackedTools(ctx);
   // The device's illuminator constant K is what a user calibrates once per headset; the
   // simulator's multipath gain g scales the indirect light, which the removal sees as a device
   // of constant K / g (none at g = 0: a world without indirect light). docs/correction.md 7.
@@ -127,6 +135,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
                     {"marker_observations", m.report.marker_observations},
                     {"marker_observations_rejected", m.report.marker_observations_rejected},
                     {"marker_observations_curved", m.report.marker_observations_curved},
+                    {"tool_marker_observations_left_out", ToolMarkersLeftOut(identified)},
                     {"seconds", m.report.seconds}};
   stage["depth_model_json"] = "depth_model.json";
 

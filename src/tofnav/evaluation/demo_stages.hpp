@@ -54,6 +54,10 @@ DemoJson Acceptance(const std::string& figure, double value, const std::string& 
 
 // Each stage fills `stage` with its figures and artefact paths (relative to ctx.out) and throws
 // on failure; the driver records ok / error / elapsed_s.
+/// The session's tracked tools (the headframe's and any instrument), read from the tool files
+/// the session wrote; skin stickers are for identification, not a tool.
+std::vector<ToolGeometry> SessionTrackedTools(const DemoContext& ctx);
+
 void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage);
 void RunDemoSession(DemoContext& ctx, DemoJson& stage);
 void RunDemoDepth(DemoContext& ctx, DemoJson& stage);

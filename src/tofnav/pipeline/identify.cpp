@@ -2,10 +2,52 @@
 // Identification from a recording: frame preparation, two stages, the skin placed once.
 #include "tofnav/pipeline/identify.hpp"
 
+#include <cmath>
+#include <numbers>
+
 #include "tofnav/correction/initial_pose.hpp"
 #include "tofnav/imaging/skin.hpp"
+#include "tofnav/tracking/tool_tracker.hpp"
 
 namespace tofnav {
+namespace {
+
+// Blanks (range and AB 0) the pixels within the blob's radius + margin of every marker matched to
+// a tool; returns the matched markers per tool.
+std::vector<int> BlankToolMarkers(AhatFrame& frame, const AhatCamera& camera,
+                                  const MarkerRangeModel& marker_range, ToolTracker& tracker,
+                                  const IdentifyRecordingOptions& options) {
+  MarkerDetectionResult detected = LocateMarkers(frame, camera, options.detection);
+  std::vector<DetectedMarker> markers = std::move(detected.markers);
+  if (!marker_range.empty()) markers = CorrectMarkerRanges(std::move(markers), marker_range);
+  tracker.Reset();  // frames are far apart: each is matched on its own
+  const TrackingFrame tracked =
+      tracker.Track(markers, frame.timestamp_s(), std::nullopt, detected.dropped);
+  std::vector<int> blanked(tracked.tools.size(), 0);
+  const int width = frame.range_mm.width(), height = frame.range_mm.height();
+  for (std::size_t t = 0; t < tracked.tools.size(); ++t) {
+    for (const int d : tracked.tools[t].measurement.marker_detection) {
+      if (d < 0) continue;
+      const DetectedMarker& m = markers[static_cast<std::size_t>(d)];
+      const double r = std::sqrt(m.area_px / std::numbers::pi) + options.tool_marker_margin_px;
+      const int u0 = std::max(0, static_cast<int>(std::floor(m.pixel.x() - r)));
+      const int u1 = std::min(width - 1, static_cast<int>(std::ceil(m.pixel.x() + r)));
+      const int v0 = std::max(0, static_cast<int>(std::floor(m.pixel.y() - r)));
+      const int v1 = std::min(height - 1, static_cast<int>(std::ceil(m.pixel.y() + r)));
+      for (int v = v0; v <= v1; ++v) {
+        for (int u = u0; u <= u1; ++u) {
+          if (std::hypot(u - m.pixel.x(), v - m.pixel.y()) > r) continue;
+          frame.range_mm(u, v) = 0;
+          frame.ab(u, v) = 0;
+        }
+      }
+      ++blanked[t];
+    }
+  }
+  return blanked;
+}
+
+}  // namespace
 
 IdentifyRecordingResult IdentifyFromRecording(
     const AhatRecording& recording, const AhatCamera& camera,
@@ -14,15 +56,32 @@ IdentifyRecordingResult IdentifyFromRecording(
     const std::function<void(std::size_t, std::size_t)>& progress) {
   const std::vector<int> picked =
       EvenSubsample(static_cast<int>(recording.frame_count()), options.max_frames);
+  IdentifyRecordingResult result;
+  const MarkerRangeModel frf = marker_range.value_or(MarkerRangeModel{});
+  std::optional<ToolTracker> tracker;
+  std::vector<std::int64_t> left_out(options.exclude_tools.size(), 0);
+  if (!options.exclude_tools.empty()) tracker.emplace(options.exclude_tools);
   const std::vector<IdentificationFrame> frames = PrepareIdentificationFrames(
       picked,
       [&](int i) {
         AhatFrame frame = recording.ReadFrame(static_cast<std::size_t>(i));
         if (options.prepare_frame) options.prepare_frame(frame);
+        if (tracker) {
+          const std::vector<int> blanked = BlankToolMarkers(frame, camera, frf, *tracker, options);
+          int any = 0;
+          for (std::size_t t = 0; t < blanked.size(); ++t) {
+            left_out[t] += blanked[t];
+            any += blanked[t];
+          }
+          if (any > 0) ++result.frames_with_tool_markers;
+        }
         return frame;
       },
-      camera, marker_range.value_or(MarkerRangeModel{}), options.sampling, progress);
-  IdentifyRecordingResult result;
+      camera, frf, options.sampling, progress);
+  for (std::size_t t = 0; t < left_out.size(); ++t) {
+    result.tool_marker_observations_left_out.emplace_back(options.exclude_tools[t].name,
+                                                          left_out[t]);
+  }
   // Stage 1: smoothness only (no CT needed, cheap). Stage 2 (with a skin): both costs from there,
   // with the skin registered once to head clouds corrected by the stage-1 model.
   DepthErrorModel& model = result.file.model;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -15,9 +16,11 @@
 #include "tofnav/correction/identification.hpp"
 #include "tofnav/correction/identification_frame.hpp"
 #include "tofnav/imaging/ct_volume.hpp"
+#include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/registration/surface_index.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_recording.hpp"
+#include "tofnav/tracking/tool_geometry.hpp"
 
 namespace tofnav {
 
@@ -29,6 +32,14 @@ struct IdentifyRecordingOptions {
   IdentificationOptions identification;
   /// Applied to each decoded frame before its preparation (e.g. to blank pixels); optional.
   std::function<void(AhatFrame&)> prepare_frame;
+  /// Tracked tools (the headframe, instruments) whose markers must not be taken for skin
+  /// stickers: in each frame their markers are located and matched as `tofnav track` does, and
+  /// the pixels of every matched marker (its blob plus tool_marker_margin_px) are blanked before
+  /// the preparation. The ring and curvature tests leave out most such markers but not all
+  /// (docs/correction.md 2). Empty: no tracking.
+  std::vector<ToolGeometry> exclude_tools;
+  MarkerDetectionOptions detection;
+  double tool_marker_margin_px = 6.0;  // beyond the blob's radius: its transitional band and more
 };
 
 struct IdentifyRecordingResult {
@@ -37,6 +48,10 @@ struct IdentifyRecordingResult {
   std::optional<int> reference_frame;
   double icp_rmse_mm = 0.0;
   double icp_inlier_fraction = 0.0;
+  /// With exclude_tools: marker observations (a tool marker in a frame) blanked, per tool name,
+  /// and the frames in which at least one was.
+  std::vector<std::pair<std::string, std::int64_t>> tool_marker_observations_left_out;
+  std::int64_t frames_with_tool_markers = 0;
 };
 
 /// Prepares up to options.max_frames frames (markers corrected by `marker_range` when given),
