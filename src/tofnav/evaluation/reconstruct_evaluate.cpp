@@ -137,6 +137,10 @@ std::vector<TruthSurface> ReadTruthSurfaces(const std::filesystem::path& truth_d
     std::optional<Rigid3d> first;
     bool rigid = true;
     for (const Json& frame : truth["frames"]) {
+      Require(frame.contains("ahat_from_objects") && frame["ahat_from_objects"].contains(name),
+              path.string() + ": a frame has no pose of object '" + name +
+                  "': the recorded scene differs from the scenario it names (a suite "
+                  "variation?); give the scenario file with --scenario");
       const Rigid3d ahat_from_tool =
           MatrixAt(frame.at("ahat_from_" + tool), path, "ahat_from_" + tool);
       const Rigid3d ahat_from_object =

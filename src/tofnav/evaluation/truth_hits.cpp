@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <fstream>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "tofnav/io/io_error.hpp"
@@ -62,9 +63,18 @@ SimulationTruth ReadSimulationTruth(const std::filesystem::path& dir, std::strin
 TruthHits CastTruthHits(sim::Scene& scene, sim::SceneRaycaster& caster,
                         const nlohmann::json& truth_frame, const AhatCamera& camera) {
   const nlohmann::json& objects = truth_frame.at("ahat_from_objects");
-  for (sim::SceneObject& o : scene.objects)
+  // A scene rebuilt from the truth's scenario name lacks what a variation (the suite's) changed.
+  const auto absent = [](const std::string& what) {
+    return std::runtime_error("the truth's frames have no pose of " + what +
+                              ": the recorded scene differs from the scenario it names (a suite "
+                              "variation?); give the scenario file with --scenario");
+  };
+  for (sim::SceneObject& o : scene.objects) {
+    if (!objects.contains(o.name)) throw absent("object '" + o.name + "'");
     o.scene_from_object = PoseFromMatrix(objects.at(o.name));
+  }
   for (sim::Tool& t : scene.tools) {
+    if (!truth_frame.contains("ahat_from_" + t.name)) throw absent("tool '" + t.name + "'");
     t.scene_from_tool = PoseFromMatrix(truth_frame.at("ahat_from_" + t.name));
   }
   caster.SetPoses(scene, Rigid3d());
