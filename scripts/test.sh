@@ -9,6 +9,11 @@
 # Usage: scripts/test.sh [--quick | --full]  (--quick: skip the sanitizer pass)
 set -euo pipefail
 cd "$(dirname "$0")/.."
+mode=${1:-}
+case "$mode" in
+  "" | --quick | --full) ;;
+  *) echo "usage: scripts/test.sh [--quick | --full]" >&2; exit 2 ;;
+esac
 scripts/setup.sh
 
 echo "== clang-format (v14) =="
@@ -33,11 +38,6 @@ scripts/build.sh werror -DCMAKE_BUILD_TYPE=Release -DTOFNAV_WERROR=ON -DTOFNAV_B
 phase "-Werror ctest"
 ctest --test-dir build/werror --output-on-failure -j2 --timeout 900
 
-mode=${1:-}
-case "$mode" in
-  "" | --quick | --full) ;;
-  *) echo "usage: scripts/test.sh [--quick | --full]" >&2; exit 2 ;;
-esac
 if [ "$mode" != "--quick" ]; then
   modules="core;io;mesh;recording;volume;sensor;stream;report;casefile;scenario"
   [ "$mode" = "--full" ] && modules=""
