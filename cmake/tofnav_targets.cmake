@@ -41,8 +41,8 @@ endfunction()
 # Precompiled headers (TOFNAV_PCH): the standard library, Eigen and, for the tests, GoogleTest are
 # parsed once per build instead of once per file (a unit-test file compiles in about 70 % of the
 # time). Every library reuses one header built by tofnav_pch_lib, every unit test one built by
-# tofnav_pch_test, so the flags of each group must stay the same; -Winvalid-pch (an error under
-# -Werror) says so if they drift. scripts/build.sh turns it on where there is no ccache (CI).
+# tofnav_pch_test, so the flags of each group must stay the same; GCC's -Winvalid-pch (which
+# CMake adds; an error under -Werror) and clang's own check say so if they drift. scripts/build.sh turns it on where there is no ccache (CI).
 set(tofnav_pch_headers <algorithm> <array> <cmath> <cstddef> <cstdint> <filesystem> <functional>
     <limits> <memory> <numbers> <optional> <random> <span> <stdexcept> <string> <string_view>
     <utility> <vector> <Eigen/Core> <Eigen/Geometry>)
@@ -68,8 +68,7 @@ function(tofnav_use_pch target group)
     tofnav_target_options(${host})
     target_precompile_headers(${host} PRIVATE ${headers})
   endif()
-  target_precompile_headers(${target} REUSE_FROM ${host})
-  target_compile_options(${target} PRIVATE -Winvalid-pch)
+  target_precompile_headers(${target} REUSE_FROM ${host})  # CMake adds -Winvalid-pch for GCC
 endfunction()
 
 # tofnav_add_library(<module> SOURCES ... [DEPENDS ...] [PRIVATE_DEPENDS ...])
