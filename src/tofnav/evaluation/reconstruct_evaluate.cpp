@@ -8,6 +8,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <numeric>
+#include <string_view>
 
 #include "tofnav/core/parallel_for.hpp"
 #include "tofnav/core/require.hpp"
@@ -21,7 +22,7 @@
 namespace tofnav {
 namespace {
 
-using Json = nlohmann::json;
+using Json = nlohmann::ordered_json;          // objects in truth.json order (the scenario's)
 constexpr double kRigidTranslationMm = 0.01;  // objects moving more relative to the tool: not rigid
 constexpr double kRigidRotationRad = 1e-5;
 
@@ -63,12 +64,56 @@ std::unique_ptr<sim::Scenario> LoadTruthScenario(const Json& truth,
   return std::make_unique<sim::Scenario>(sim::BuiltinScenario(name));
 }
 
-// The object meshes by name: from the scenario, or only the skin file without one.
-std::vector<std::pair<std::string, TriangleMesh>> ObjectMeshes(const Json& truth,
-                                                               const std::filesystem::path& dir,
-                                                               const sim::Scenario* scenario) {
+// The meshes simulate wrote (truth.json files "mesh:<object>"), each checked against the
+// object's vertex and triangle counts; empty for a session written before them.
+std::vector<std::pair<std::string, TriangleMesh>> MeshFiles(const Json& truth,
+                                                            const std::filesystem::path& dir) {
   std::vector<std::pair<std::string, TriangleMesh>> meshes;
+  const Json& files = truth.value("files", Json::object());
   const std::filesystem::path path = dir / "truth.json";
+  constexpr std::string_view kRole = "mesh:";
+  for (const auto& [role, value] : files.items()) {
+    if (role.rfind(kRole, 0) != 0) continue;
+    const std::string name = role.substr(kRole.size());
+    const Json& objects = truth["objects"];
+    if (!value.is_string() || !objects.contains(name) || !objects[name].is_object()) {
+      throw IoError(path, std::nullopt,
+                    "files." + role + ": expected a file name of an object in \"objects\"");
+    }
+    const std::filesystem::path relative = value.get<std::string>();
+    const auto up = std::find(relative.begin(), relative.end(), "..");
+    if (relative.empty() || relative.is_absolute() || up != relative.end()) {
+      throw IoError(path, std::nullopt, "files." + role + ": expected a path inside the folder");
+    }
+    const std::size_t vertices = objects[name].value("vertices", std::size_t{0});
+    const std::size_t triangles = objects[name].value("triangles", std::size_t{0});
+    const std::string expected = "the mesh of object '" + name + "' (" + std::to_string(vertices) +
+                                 " vertices, " + std::to_string(triangles) + " triangles, as " +
+                                 path.string() + " says)";
+    const std::filesystem::path file = dir / relative;
+    if (!std::filesystem::is_regular_file(file)) {
+      throw IoError(file, std::nullopt, "missing: expected " + expected);
+    }
+    TriangleMesh mesh = ReadMesh(file);
+    if (mesh.vertices.size() != vertices || mesh.triangles.size() != triangles) {
+      throw IoError(file, std::nullopt,
+                    "has " + std::to_string(mesh.vertices.size()) + " vertices, " +
+                        std::to_string(mesh.triangles.size()) + " triangles; expected " + expected);
+    }
+    meshes.emplace_back(name, std::move(mesh));
+  }
+  return meshes;
+}
+
+// The object meshes by name: the session's mesh files when truth.json names them; else (a
+// session written before them) from the scenario, or only the skin file without one.
+std::vector<std::pair<std::string, TriangleMesh>> ObjectMeshes(
+    const Json& truth, const std::filesystem::path& dir,
+    const std::filesystem::path& scenario_file) {
+  std::vector<std::pair<std::string, TriangleMesh>> meshes = MeshFiles(truth, dir);
+  if (!meshes.empty()) return meshes;
+  const std::filesystem::path path = dir / "truth.json";
+  const std::unique_ptr<sim::Scenario> scenario = LoadTruthScenario(truth, scenario_file);
   if (scenario) {
     for (const sim::SceneObject& o : scenario->scene.objects) {
       if (!truth["objects"].contains(o.name)) continue;
@@ -129,11 +174,10 @@ std::vector<TruthSurface> ReadTruthSurfaces(const std::filesystem::path& truth_d
     tool = truth["tools"].begin().key();
   }
   Require(truth["tools"].contains(tool), "no tool '" + tool + "' in " + path.string());
-  const std::unique_ptr<sim::Scenario> scenario = LoadTruthScenario(truth, scenario_file);
   const std::string patient_object =
       truth.contains("patient") ? truth["patient"].value("object", std::string()) : "";
   std::vector<TruthSurface> surfaces;
-  for (auto& [name, mesh] : ObjectMeshes(truth, truth_dir, scenario.get())) {
+  for (auto& [name, mesh] : ObjectMeshes(truth, truth_dir, scenario_file)) {
     std::optional<Rigid3d> first;
     bool rigid = true;
     for (const Json& frame : truth["frames"]) {

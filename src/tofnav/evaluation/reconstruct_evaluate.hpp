@@ -21,11 +21,13 @@ struct TruthSurface {
 };
 
 /// The objects of a simulation output folder that are rigid with `tool_name` (within 0.01 mm
-/// over every frame), posed in that tool's frame from truth.json. Meshes come from the scenario:
-/// the built-in named in truth.json, or `scenario_file` when given; without either, only the
-/// patient's skin (skin_truth.ply) is available. `tool_name` empty: the only tool of the run.
-/// Throws IoError on a malformed truth.json and PreconditionError on an unknown tool or a
-/// scenario whose meshes do not match truth.json's vertex counts.
+/// over every frame), posed in that tool's frame from truth.json. Meshes come from the session's
+/// meshes/<object>.ply files (truth.json files "mesh:<object>"; `scenario_file` is then unused).
+/// A session written before those files rebuilds the scenario: the built-in named in truth.json,
+/// or `scenario_file` when given; without either, only the patient's skin (skin_truth.ply).
+/// `tool_name` empty: the only tool of the run. Throws IoError on a malformed truth.json or a
+/// mesh file that is missing or whose vertex or triangle count differs from truth.json's, and
+/// PreconditionError on an unknown tool or a scenario whose meshes do not match truth.json.
 std::vector<TruthSurface> ReadTruthSurfaces(const std::filesystem::path& truth_dir,
                                             const std::string& tool_name = "",
                                             const std::filesystem::path& scenario_file = {});

@@ -2,7 +2,9 @@
 // The simulate composition: pre-operative files, then the frame loop writing three streams.
 #include "tofnav/scenario/simulate.hpp"
 
+#include <algorithm>
 #include <bit>
+#include <cctype>
 #include <cstring>
 #include <utility>
 
@@ -32,6 +34,7 @@ constexpr const char* kCtName = "ct.nrrd";
 constexpr const char* kSkinName = "skin_truth.ply";
 constexpr const char* kPlanName = "plan.mrk.json";
 constexpr const char* kToolsDir = "tools";
+constexpr const char* kMeshesDir = "meshes";
 
 // ct.nrrd, skin_truth.ply and plan.mrk.json of the scenario's patient.
 void WritePatientFiles(const sim::Scenario& s, const std::filesystem::path& out_dir,
@@ -59,6 +62,29 @@ void WritePatientFiles(const sim::Scenario& s, const std::filesystem::path& out_
   files.emplace_back("skin", kSkinName);
   WriteTrajectoryMarkups(out_dir / kPlanName, patient.plan);
   files.emplace_back("plan", kPlanName);
+}
+
+// The file name of an object's mesh: the name itself, which Scenario::Check already limits to
+// [A-Za-z0-9_-] and makes unique; refused here too, so that no name can leave the folder.
+std::string MeshFileName(const std::string& object_name) {
+  const bool safe =
+      !object_name.empty() && std::all_of(object_name.begin(), object_name.end(), [](char c) {
+        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
+      });
+  Require(safe, "object name '" + object_name + "' is not a file name ([A-Za-z0-9_-])");
+  return std::string(kMeshesDir) + "/" + object_name + ".ply";
+}
+
+// meshes/<object>.ply: every scene object's mesh in its own frame (the mesh truth.json's
+// objects.<name> counts), so evaluators need not rebuild the scenario (docs/simulator.md).
+void WriteObjectMeshes(const sim::Scenario& s, const std::filesystem::path& out_dir,
+                       std::vector<std::pair<std::string, std::string>>& files) {
+  for (const sim::SceneObject& o : s.scene.objects) {
+    const std::string name = MeshFileName(o.name);
+    std::filesystem::create_directories(out_dir / kMeshesDir);
+    WriteMesh(out_dir / name, o.mesh);  // binary PLY, atomic (WriteFileAtomically)
+    files.emplace_back("mesh:" + o.name, name);
+  }
 }
 
 // tools/headframe.json: the headframe tools (HeadframeTools) joined into one rigid tool in the
@@ -153,6 +179,7 @@ SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path
   info.files = {{"recording", kRecordingName}, {"calibration", kCalibrationName}};
   if (options.truth_depth) info.files.emplace_back("truth_range", kTruthRangeName);
   if (scenario.patient) WritePatientFiles(scenario, out_dir, info.files);
+  WriteObjectMeshes(scenario, out_dir, info.files);
   WriteToolFiles(scenario, out_dir, info.files);
 
   Hl2ssWriterOptions writer_options;

@@ -43,10 +43,11 @@ struct SimulateResult {
 
 /// Writes into `out_dir` (created if missing): rm_depth_ahat.bin (hl2ss, pose mode 1),
 /// calibration/rm_depth_ahat/*, truth.json, and with options.truth_depth truth_range_f32.bin;
-/// with a patient also ct.nrrd, skin_truth.ply and plan.mrk.json. Frames are rendered and
-/// written one at a time (memory does not grow with the frame count); every file is atomic.
-/// The same scenario and seed give byte-identical files. Refuses (PreconditionError, before
-/// writing anything) a scenario whose markers reach into other surfaces (sim::RequireMarkersClear).
+/// with a patient also ct.nrrd, skin_truth.ply and plan.mrk.json; meshes/<object>.ply for every
+/// scene object (its mesh in its own frame; truth.json files "mesh:<object>"). Frames are rendered
+/// and written one at a time (memory does not grow with the frame count); every file is atomic. The
+/// same scenario and seed give byte-identical files. Refuses (PreconditionError, before writing
+/// anything) a scenario whose markers reach into other surfaces (sim::RequireMarkersClear).
 SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path& out_dir,
                              const SimulateOptions& options = {});
 

@@ -7,9 +7,11 @@
 #include "tofnav/core/require.hpp"
 #include "tofnav/describe/describe.hpp"
 #include "tofnav/io/io_test_helpers.hpp"
+#include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/scenario/simulate.hpp"
 #include "tofnav/sim/patient.hpp"
+#include "tofnav/sim/shapes.hpp"
 
 namespace tofnav {
 namespace {
@@ -81,6 +83,34 @@ TEST(RunSimulation, TofnavInfoDescribesEveryOutput) {
   EXPECT_THAT(truth, ::testing::HasSubstr("\"frames\": 2"));
   const std::string plan = DescribeAsJson(dir.path() / "plan.mrk.json");
   EXPECT_THAT(plan, ::testing::HasSubstr("\"Line\": 9"));
+}
+
+TEST(RunSimulation, WritesEveryObjectMeshNamedInTruth) {
+  const testing::TempDir dir("simulate_meshes");
+  sim::Scenario s = TinyPatientScenario();
+  s.AddObject("ball", sim::SphereMesh(20.0, 16), s.scene.objects.front().material, -1,
+              Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ())),
+                      {150.0, -100.0, 0.0}));
+  SimulateOptions options = SmallRun();
+  options.frames = 1;
+  RunSimulation(s, dir.path(), options);
+  const testing::Json truth = ReadJson(dir.path() / "truth.json");
+  EXPECT_EQ(truth.at("files").at("skin"), "skin_truth.ply");
+  ASSERT_EQ(s.scene.objects.size(), 2u);
+  for (const sim::SceneObject& o : s.scene.objects) {
+    SCOPED_TRACE(o.name);
+    const std::string name = "meshes/" + o.name + ".ply";
+    ASSERT_EQ(truth.at("files").at("mesh:" + o.name), name);
+    // The object's own frame, exactly at the PLY's float precision (positions and triangles).
+    const TriangleMesh mesh = ReadMesh(dir.path() / name);
+    EXPECT_EQ(truth.at("objects").at(o.name).at("vertices"), mesh.vertices.size());
+    EXPECT_EQ(truth.at("objects").at(o.name).at("triangles"), mesh.triangles.size());
+    ASSERT_EQ(mesh.vertices.size(), o.mesh.vertices.size());
+    for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+      ASSERT_EQ(mesh.vertices[i], o.mesh.vertices[i].cast<float>().cast<double>()) << i;
+    }
+    EXPECT_EQ(mesh.triangles, o.mesh.triangles);
+  }
 }
 
 TEST(RunSimulation, ZdepthProfileAndOptionChecks) {
