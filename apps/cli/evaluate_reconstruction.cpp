@@ -19,9 +19,13 @@ namespace tofnav {
 namespace {
 
 nlohmann::ordered_json StatsJson(const SurfaceErrorStats& s) {
-  return {
-      {"count", s.abs_mm.count}, {"median_mm", s.abs_mm.median},       {"iqr_mm", s.abs_mm.iqr()},
-      {"rms_mm", s.abs_mm.rms},  {"mean_signed_mm", s.mean_signed_mm}, {"p95_mm", s.abs_mm.p95}};
+  return {{"count", s.abs_mm.count},
+          {"median_mm", s.abs_mm.median},
+          {"iqr_mm", s.abs_mm.iqr()},
+          {"rms_mm", s.abs_mm.rms},
+          {"mean_signed_mm", s.mean_signed_mm},
+          {"p95_mm", s.abs_mm.p95},
+          {"beyond_3mm_percent", 100.0 * s.beyond_3mm_fraction}};
 }
 
 // The paper's Table II: per material, rows H, TP, FP, HS, AVG (over TP, FP, HS), columns

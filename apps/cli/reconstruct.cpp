@@ -84,6 +84,10 @@ int RunReconstruct(int argc, char** argv) {
                  "weigh pixels by min(1, (AB / this)^2); 0 = off");
   app.add_option("--min-weight", options.mesh.min_weight,
                  "mesh only cells whose corners weigh more than this");
+  app.add_option("--min-observed-frames", options.min_observed_frames,
+                 "mesh only surface seen in at least this many frames (weight units)");
+  app.add_option("--min-observed-fraction", options.min_observed_fraction,
+                 "... and in at least this fraction of the frames fused (0 and 0: off)");
   app.add_option("--min-range-mm", options.tsdf.min_range_mm);
   app.add_option("--max-range-mm", options.tsdf.max_range_mm);
   app.add_option("--first-frame", options.first_frame);
@@ -93,11 +97,12 @@ int RunReconstruct(int argc, char** argv) {
   bool all_markers = false;
   app.add_flag("--all-markers", all_markers,
                "fuse only frames in which every marker of the tool was matched (status ok)");
-  bool no_model_check = false, no_refine = false, no_pixel_gate = false, no_pose_check = false;
+  bool no_model_check = false, refine = false, no_pixel_gate = false, no_pose_check = false;
   app.add_flag("--no-model-check", no_model_check,
                "fuse every posed frame without checking it against the model fused so far");
-  app.add_flag("--no-refine", no_refine,
-               "check frames against the model, but fuse them with their tracked pose");
+  app.add_flag("--refine", refine,
+               "fuse checked frames with their pose aligned to the model (default: the tracked "
+               "pose; the alignment is only used to judge)");
   app.add_flag("--no-pixel-gate", no_pixel_gate,
                "fuse pixels that contradict a well-observed surface (occluders, multipath)");
   app.add_flag("--no-pose-check", no_pose_check,
@@ -120,7 +125,7 @@ int RunReconstruct(int argc, char** argv) {
   options.largest_component = !all_components;
   options.accept_partially_occluded = !all_markers;
   options.model_check.enabled = !no_model_check;
-  options.model_check.refine = !no_refine;
+  options.model_check.refine = refine;
   options.model_check.gate_pixels = !no_pixel_gate;
   options.check_pose_consistency = !no_pose_check;
   options.pose_consistency.max_rotation_rad = max_jump_deg * std::numbers::pi / 180.0;
@@ -177,6 +182,8 @@ int RunReconstruct(int argc, char** argv) {
         {"vertices", r.mesh.vertices.size()},
         {"triangles", r.mesh.triangles.size()},
         {"vertices_before_component", r.mesh_vertices_before_component},
+        {"mesh_min_weight", r.mesh_min_weight},
+        {"vertices_seldom_observed", r.vertices_seldom_observed},
         {"read_s", r.read_s},
         {"track_s", r.track_s},
         {"prepare_s", r.prepare_s},
@@ -201,6 +208,8 @@ int RunReconstruct(int argc, char** argv) {
   }
   std::cout << "); " << r.frames_model_checked << " checked against the model, "
             << r.frames_pose_checked << " over time; " << r.pixels_gated << " pixels gated\n"
+            << "  surface seen in fewer than " << r.mesh_min_weight
+            << " frames left out: " << r.vertices_seldom_observed << " vertices\n"
             << "  ROI (" << (r.roi_automatic ? "automatic" : "given") << ") ["
             << r.roi_in_tool.min().transpose() << "] - [" << r.roi_in_tool.max().transpose()
             << "] mm in " << tool.name << "\n"

@@ -31,7 +31,10 @@ struct ModelCheckOptions {
   /// Median |point-to-surface distance| of the inliers after alignment above this: rejected
   /// [mm]. Range noise of 1 mm gives ~0.7 mm; a 5 deg pose error several mm.
   double max_median_residual_mm = 1.5;
-  bool refine = true;  // fuse with the aligned pose (else only judge with it)
+  /// Fuse with the aligned pose (else only judge with it). Off by default: on the suite the
+  /// alignment mostly follows a view's own depth error, not a pose error, and refined frames
+  /// bake it into the model (docs/reconstruction.md 5.2).
+  bool refine = false;
   /// The alignment's bound: a frame offset further from the model is rejected (a rigid offset)
   /// [mm, rad at the points' centroid]. Tool tracking errs ~0.2 mm / 0.3 deg (docs/tracking.md).
   double max_correction_mm = 2.0;

@@ -44,6 +44,7 @@ const AhatCamera& Camera() {
 ModelCheckOptions CheckOptions() {
   ModelCheckOptions options;
   options.pixel_stride = 1;
+  options.refine = true;  // the alignment is what these tests check
   return options;
 }
 

@@ -93,6 +93,11 @@ void ReconstructOptions::Check() const {
           "ReconstructOptions::min_ab_weight must be in (0, 1]");
   Require(frame_step >= 1, "ReconstructOptions::frame_step must be >= 1");
   Require(!max_frames || *max_frames >= 1, "ReconstructOptions::max_frames must be >= 1");
+  Require(std::isfinite(min_observed_frames) && min_observed_frames >= 0.0,
+          "ReconstructOptions::min_observed_frames must be >= 0");
+  Require(std::isfinite(min_observed_fraction) && min_observed_fraction >= 0.0 &&
+              min_observed_fraction <= 1.0,
+          "ReconstructOptions::min_observed_fraction must be in [0, 1]");
   model_check.Check();
   pose_consistency.Check();
 }
@@ -170,6 +175,15 @@ std::optional<Eigen::AlignedBox3d> AutomaticRoi(std::span<const RoiView> views,
   });
   const Eigen::Vector3d margin = Eigen::Vector3d::Constant(options.margin_mm);
   return Eigen::AlignedBox3d(box.min() - margin, box.max() + margin);
+}
+
+double SeldomObservedMinWeight(const ReconstructOptions& options, std::size_t frames_fused) {
+  const double wanted =
+      std::max({options.mesh.min_weight, options.min_observed_frames,
+                options.min_observed_fraction * static_cast<double>(frames_fused)});
+  // Half the frames fused at most: a short recording keeps what most of its frames saw.
+  const double cap = std::min(options.tsdf.max_weight, static_cast<double>(frames_fused));
+  return std::min(wanted, std::max(options.mesh.min_weight, 0.5 * cap));
 }
 
 namespace {
@@ -327,8 +341,15 @@ ReconstructResult ReconstructSurface(
   result.roi_in_tool = *volume->options().roi_in_tool;
   result.blocks = volume->block_count();
   const Clock::time_point t = Clock::now();
-  TriangleMesh mesh = ExtractIsoSurface(*volume, options.mesh);
+  TsdfMeshOptions mesh_options = options.mesh;
+  mesh_options.min_weight = SeldomObservedMinWeight(options, result.frames_fused);
+  result.mesh_min_weight = mesh_options.min_weight;
+  TriangleMesh mesh = ExtractIsoSurface(*volume, mesh_options);
   result.mesh_vertices_before_component = mesh.vertices.size();
+  if (mesh_options.min_weight > options.mesh.min_weight) {
+    const std::size_t all = ExtractIsoSurface(*volume, options.mesh).vertices.size();
+    result.vertices_seldom_observed = all > mesh.vertices.size() ? all - mesh.vertices.size() : 0;
+  }
   if (!options.largest_component) {
     result.mesh = std::move(mesh);
   } else if (looked_at_in_tool) {

@@ -53,6 +53,14 @@ struct AutoRoiOptions {
 struct ReconstructOptions {
   TsdfOptions tsdf;  // voxel size, truncation, weights; tsdf.roi_in_tool is the ROI when set
   TsdfMeshOptions mesh;
+  /// Surfaces seen in few frames are not meshed (docs/reconstruction.md 1.3): the marching cubes
+  /// threshold is max(mesh.min_weight, min_observed_frames, min_observed_fraction x frames
+  /// fused), in weight units (a frame adds <= 1 to a voxel), capped at half of tsdf.max_weight
+  /// and of the frames fused.
+  /// The rims of the observed region (mixed pixels at silhouettes, grazing views, a few frames'
+  /// view-dependent error) are where the head's vertices beyond 3 mm lie. 0 and 0: off.
+  double min_observed_frames = 5.0;
+  double min_observed_fraction = 0.05;
   AutoRoiOptions auto_roi;  // used when tsdf.roi_in_tool is empty
   /// Automatic head region per frame (correction/head_region.hpp, the one identification uses):
   /// pixels outside it (headframe board, tool plates, fragments) are not fused. Disable for
@@ -107,6 +115,9 @@ struct ReconstructResult {
   std::size_t pixels_gated = 0;          // dropped by the per-pixel gate, all frames
   std::size_t blocks = 0;                // allocated 8^3 blocks
   std::size_t mesh_vertices_before_component = 0;  // marching cubes output
+  double mesh_min_weight = 0.0;  // the threshold used (min_observed_frames, _fraction)
+  /// Marching-cubes vertices left out as seen in too few frames (before the component).
+  std::size_t vertices_seldom_observed = 0;
   double read_s = 0.0;                             // decoding frames
   double prepare_s = 0.0;  // markers, f_rf, range cleaning, Eq. (4), AB weights (in parallel)
   double track_s = 0.0;    // tool poses and the temporal check
@@ -126,6 +137,12 @@ ReconstructResult ReconstructSurface(
     const AhatRecording& recording, const AhatCamera& camera, const ToolGeometry& tool,
     const ReconstructOptions& options = {},
     const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// The marching-cubes weight threshold ReconstructSurface uses after fusing `frames_fused`
+/// frames: max(mesh.min_weight, min_observed_frames, min_observed_fraction x frames_fused),
+/// capped at max(mesh.min_weight, min(tsdf.max_weight, frames_fused) / 2) (docs/reconstruction.md
+/// 1.3). A cell is meshed when its corners weigh more than this.
+double SeldomObservedMinWeight(const ReconstructOptions& options, std::size_t frames_fused);
 
 /// One posed range image for the automatic ROI.
 struct RoiView {

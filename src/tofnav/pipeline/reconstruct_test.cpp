@@ -4,11 +4,16 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/evaluation/reconstruct_evaluate.hpp"
 #include "tofnav/fusion/fusion_test_scenes.hpp"
+#include "tofnav/fusion/marching_cubes.hpp"
+#include "tofnav/fusion/surface_distance.hpp"
+#include "tofnav/fusion/tsdf_volume.hpp"
 
 namespace tofnav {
 namespace {
@@ -84,6 +89,90 @@ TEST(ReconstructOptions, CheckNamesTheBadField) {
   options = {};
   options.pose_consistency.max_translation_mm = 0.0;
   EXPECT_THROW(options.Check(), PreconditionError);
+}
+
+TEST(SeldomObservedMinWeight, FramesOrFractionOfFramesCappedBelowTheWeightCap) {
+  ReconstructOptions options;  // 5 frames and 5 % of the frames fused; weight cap 128
+  EXPECT_DOUBLE_EQ(SeldomObservedMinWeight(options, 10), 5.0);
+  EXPECT_DOUBLE_EQ(SeldomObservedMinWeight(options, 3), 1.5);  // half the frames fused
+  EXPECT_DOUBLE_EQ(SeldomObservedMinWeight(options, 400), 20.0);
+  EXPECT_DOUBLE_EQ(SeldomObservedMinWeight(options, 100000), 64.0);  // half the cap
+  options.mesh.min_weight = 80.0;  // a user's larger threshold wins, cap or not
+  EXPECT_DOUBLE_EQ(SeldomObservedMinWeight(options, 10), 80.0);
+  options = {};
+  options.min_observed_frames = 0.0;
+  options.min_observed_fraction = 0.0;
+  EXPECT_DOUBLE_EQ(SeldomObservedMinWeight(options, 400), 0.0);
+  options.min_observed_fraction = 1.5;
+  EXPECT_THROW(options.Check(), PreconditionError);
+}
+
+// A sphere in front of the head in 2 of 40 frames (a transient object the checks did not catch)
+// is fused, but seen too seldom to be meshed with the default threshold; the head stays whole.
+TEST(SeldomObservedMinWeight, ATransientObjectSeenInTwoFramesIsNotMeshed) {
+  const AhatCamera camera(SmallFisheyeCalibration(128));
+  const EllipsoidHead head;
+  const Eigen::Vector3d forward(0.0, -1.0, 0.3);
+  const std::vector<Rigid3d> poses = FrontPoses(head.centre_in_tool, forward, 0.5, 40, 7);
+  const Eigen::Vector3d ghost = head.centre_in_tool + 140.0 * forward.normalized();
+  constexpr double kGhostRadiusMm = 15.0;
+  TsdfOptions tsdf;
+  tsdf.roi_in_tool = Eigen::AlignedBox3d(head.centre_in_tool - Eigen::Vector3d::Constant(180.0),
+                                         head.centre_in_tool + Eigen::Vector3d::Constant(180.0));
+  TsdfVolume volume(tsdf, camera);
+  std::mt19937_64 rng(3);
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    Image<float> range = head.Render(camera, poses[i], 0.5, rng);
+    if (i == 5 || i == 6) {
+      const Image<float> sphere = RenderSphere(camera, poses[i], ghost, kGhostRadiusMm);
+      for (std::size_t p = 0; p < range.size(); ++p) {
+        const float s = sphere.data()[p];
+        if (s > 0.0f && (range.data()[p] == 0.0f || s < range.data()[p])) range.data()[p] = s;
+      }
+    }
+    volume.Integrate(range, poses[i]);
+  }
+  const auto near_ghost = [&](const TriangleMesh& mesh) {
+    return std::count_if(mesh.vertices.begin(), mesh.vertices.end(), [&](const auto& v) {
+      return (v - ghost).norm() < kGhostRadiusMm + 3.0;
+    });
+  };
+  // Frames in which a head point faces the camera at under 60 deg incidence (grazing views
+  // update the voxels only within the truncation of their coarse pixels) inside its field of
+  // view (the ellipsoid is convex: nothing else hides it).
+  const auto views = [&](const Eigen::Vector3d& v) {
+    const Eigen::Vector3d q = head.rotation.transpose() * (v - head.centre_in_tool);
+    const Eigen::Vector3d normal =
+        head.rotation * q.cwiseQuotient(head.semi_axes_mm.cwiseAbs2()).normalized();
+    return std::count_if(poses.begin(), poses.end(), [&](const Rigid3d& pose) {
+      return normal.dot((pose.translation - v).normalized()) > 0.5 &&
+             camera.Project(pose.Inverse() * v).has_value();
+    });
+  };
+  const TriangleMesh all = ExtractIsoSurface(volume, {});
+  TsdfMeshOptions seldom;
+  seldom.min_weight = SeldomObservedMinWeight(ReconstructOptions{}, poses.size());
+  const TriangleMesh kept = ExtractIsoSurface(volume, seldom);
+  ASSERT_GT(near_ghost(all), 100);  // the ghost was fused and would be meshed
+  EXPECT_EQ(near_ghost(kept), 0);
+  // The head: kept where seen in well over the threshold's 5 frames (10: a cell's 8 corners
+  // and the truncation band straddle a few views' rims), left out where seen in fewer than 3.
+  std::size_t well_seen = 0, well_seen_kept = 0, seldom_kept = 0;
+  const SurfaceDistance to_kept(kept);
+  for (const Eigen::Vector3d& v : all.vertices) {
+    if (std::abs(head.DistanceMm(v)) > 2.0) continue;
+    const auto n = views(v);
+    const bool is_kept = to_kept.Closest(v, 0.5).has_value();
+    if (n >= 10) {
+      ++well_seen;
+      well_seen_kept += is_kept ? 1 : 0;
+    } else if (n < 3 && is_kept) {
+      ++seldom_kept;
+    }
+  }
+  RecordProperty("well_seen_head_vertices", std::to_string(well_seen));
+  EXPECT_GE(static_cast<double>(well_seen_kept), 0.99 * static_cast<double>(well_seen));
+  EXPECT_EQ(seldom_kept, 0u);
 }
 
 TEST(ComputeSurfaceErrorStats, MedianIqrRmsOfAbsoluteValues) {
