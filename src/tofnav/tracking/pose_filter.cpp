@@ -34,6 +34,8 @@ void PoseFilterOptions::Check() const {
   Require(
       boost_chi2 > 0.0 && boost_velocity_sigma_mm_per_s >= 0.0 && boost_rate_sigma_rad_per_s >= 0.0,
       "PoseFilterOptions: boost_chi2 must be > 0 and the boost sigmas >= 0");
+  Require(std::isfinite(initial_rate_sigma_rad_per_s) && initial_rate_sigma_rad_per_s > 0.0,
+          "PoseFilterOptions::initial_rate_sigma_rad_per_s must be > 0");
   Require(max_gated >= 1, "PoseFilterOptions::max_gated must be >= 1");
   Require(max_gap_s > 0.0, "PoseFilterOptions::max_gap_s must be > 0");
 }
@@ -42,7 +44,7 @@ PoseFilter::PoseFilter(const PoseFilterOptions& options) : options_(options) { o
 
 void PoseFilter::Reset() { initialised_ = false; }
 
-void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s) {
+void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s, double variance_scale) {
   initialised_ = true;
   last_s_ = timestamp_s;
   position_mm_ = measured.translation;
@@ -50,9 +52,12 @@ void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s) {
   velocity_mm_per_s_.setZero();
   angular_velocity_rad_per_s_.setZero();
   const double sp = options_.position_sigma_mm, sr = options_.rotation_sigma_rad;
-  position_cov_ = {sp * sp, 0.0, kInitialRateVariance};
-  rotation_cov_ = {sr * sr, 0.0, kInitialRateVariance};
+  const double rate = options_.initial_rate_sigma_rad_per_s;
+  position_cov_ = {variance_scale * sp * sp, 0.0, kInitialRateVariance};
+  rotation_cov_ = {variance_scale * sr * sr, 0.0, rate * rate};
   gated_in_a_row_ = 0;
+  init_variance_scale_ = variance_scale;
+  only_initialised_ = true;
 }
 
 // F = [1 dt; 0 1], Q = s^2 [dt^4/4 dt^3/2; dt^3/2 dt^2] (discrete white acceleration).
@@ -74,10 +79,13 @@ std::optional<Rigid3d> PoseFilter::Predict(double timestamp_s) const {
 }
 
 PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
-                                    double position_accel_sigma_mm_per_s2) {
+                                    double position_accel_sigma_mm_per_s2,
+                                    double measurement_variance_scale) {
+  Require(std::isfinite(measurement_variance_scale) && measurement_variance_scale >= 1.0,
+          "PoseFilter::Update: measurement_variance_scale must be >= 1");
   const std::optional<Rigid3d> predicted = Predict(timestamp_s);
   if (!predicted) {  // first measurement, a gap, or time going backwards
-    Initialise(measured, timestamp_s);
+    Initialise(measured, timestamp_s, measurement_variance_scale);
     return {measured, false, true};
   }
   const double dt = timestamp_s - last_s_;
@@ -87,18 +95,23 @@ PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
   const Axis2 pos = Propagate(position_cov_, dt, accel_sigma);
   const Axis2 rot = Propagate(rotation_cov_, dt, options_.rotation_accel_sigma_rad_per_s2);
   const double sp = options_.position_sigma_mm, sr = options_.rotation_sigma_rad;
-  const double s_pos = pos.pp + sp * sp, s_rot = rot.pp + sr * sr;
+  const double s_pos = pos.pp + measurement_variance_scale * sp * sp;
+  const double s_rot = rot.pp + measurement_variance_scale * sr * sr;
   const Eigen::Vector3d innovation_pos = measured.translation - predicted->translation;
   const Eigen::Vector3d innovation_rot = Log(measured.rotation * predicted->rotation.inverse());
   const double chi2 = innovation_pos.squaredNorm() / s_pos + innovation_rot.squaredNorm() / s_rot;
   const bool beyond_floor = innovation_pos.norm() > options_.gate_floor_mm ||
                             innovation_rot.norm() > options_.gate_floor_rad;
   if (chi2 > options_.gate_chi2 && beyond_floor) {
-    if (++gated_in_a_row_ < options_.max_gated) return {*predicted, true, false};
-    Initialise(measured, timestamp_s);  // a real jump: stop locking it out
+    // A state started from one measurement that fitted worse than this one does not lock the
+    // better one out: start again from it.
+    const bool poor_start = only_initialised_ && measurement_variance_scale < init_variance_scale_;
+    if (!poor_start && ++gated_in_a_row_ < options_.max_gated) return {*predicted, true, false};
+    Initialise(measured, timestamp_s, measurement_variance_scale);  // a real jump
     return {measured, false, true};
   }
   gated_in_a_row_ = 0;
+  only_initialised_ = false;
   const double kp0 = pos.pp / s_pos, kp1 = pos.pv / s_pos;
   const double kr0 = rot.pp / s_rot, kr1 = rot.pv / s_rot;
   position_mm_ = predicted->translation + kp0 * innovation_pos;

@@ -26,6 +26,10 @@ struct PoseFilterOptions {
   double boost_chi2 = 16.27;
   double boost_velocity_sigma_mm_per_s = 300.0;
   double boost_rate_sigma_rad_per_s = 3.0;
+  /// Rotation rate uncertainty at (re-)initialisation: unknown by default (the first two
+  /// measurements set the rate); a filter in a frame where the tool stands still (world) knows
+  /// it is small.
+  double initial_rate_sigma_rad_per_s = 1000.0;
   int max_gated = 3;       // after this many consecutive gated measurements: re-initialise
   double max_gap_s = 0.2;  // no accepted measurement for longer: re-initialise on the next
   void Check() const;      // throws std::invalid_argument naming the bad field
@@ -48,8 +52,11 @@ class PoseFilter {
 
   /// `position_accel_sigma_mm_per_s2` > 0 replaces the option's for this step (the caller knows
   /// the tool moves in the measurement frame, e.g. a world-fixed tool seen by a moving camera).
+  /// `measurement_variance_scale` (>= 1) multiplies this measurement's noise variances: a pose
+  /// whose marker fit left residuals larger than the noise model predicts counts for less.
   PoseFilterUpdate Update(const Rigid3d& measured_ahat_from_tool, double timestamp_s,
-                          double position_accel_sigma_mm_per_s2 = 0.0);
+                          double position_accel_sigma_mm_per_s2 = 0.0,
+                          double measurement_variance_scale = 1.0);
   /// The state extrapolated to `timestamp_s`; nullopt before the first measurement or when the
   /// gap exceeds max_gap_s (the filter would re-initialise).
   std::optional<Rigid3d> Predict(double timestamp_s) const;
@@ -60,7 +67,7 @@ class PoseFilter {
   struct Axis2 {  // shared 2 x 2 covariance of (value, rate) of three isotropic axes
     double pp = 0.0, pv = 0.0, vv = 0.0;
   };
-  void Initialise(const Rigid3d& measured, double timestamp_s);
+  void Initialise(const Rigid3d& measured, double timestamp_s, double variance_scale);
   static Axis2 Propagate(const Axis2& p, double dt_s, double accel_sigma);
 
   PoseFilterOptions options_;
@@ -72,6 +79,8 @@ class PoseFilter {
   Eigen::Vector3d angular_velocity_rad_per_s_ = Eigen::Vector3d::Zero();  // in `ahat`
   Axis2 position_cov_, rotation_cov_;
   int gated_in_a_row_ = 0;
+  double init_variance_scale_ = 1.0;  // of the measurement the state started from
+  bool only_initialised_ = false;     // no measurement accepted since (re-)initialisation
 };
 
 }  // namespace tofnav

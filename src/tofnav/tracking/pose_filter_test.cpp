@@ -8,9 +8,12 @@
 #include <random>
 
 #include "matchers.hpp"
+#include "tofnav/core/require.hpp"
 
 namespace tofnav {
 namespace {
+
+constexpr double kDeg = 0.017453292519943295;
 
 Rigid3d Noisy(const Rigid3d& truth, std::mt19937_64& rng, double sigma_mm, double sigma_rad) {
   std::normal_distribution<double> n(0.0, 1.0);
@@ -121,6 +124,48 @@ TEST(PoseFilter, GatesAnOutlierAndReinitialisesAfterARealJump) {
   u = filter.Update(jumped, 24 / 45.0);  // the third in a row: the tool really moved
   EXPECT_TRUE(u.reset);
   EXPECT_THAT(u.filtered, RigidNear(jumped, 1e-12, 1e-12));
+}
+
+// A pose whose marker fit left residuals 25 times the noise model's variance (a cut sphere):
+// the same 1 deg tilt (within the gate floor, so not gated) pulls a settled static filter at
+// most a fifth as far as from a clean fit (the Kalman gain drops with the variance).
+TEST(PoseFilter, AMeasurementThatFitPoorlyPullsLess) {
+  constexpr double kPullRatio = 0.2;
+  const Rigid3d still(Eigen::Quaterniond::Identity(), {0, 0, 500});
+  const Rigid3d tilted(Eigen::Quaterniond(Eigen::AngleAxisd(1.0 * kDeg, Eigen::Vector3d::UnitX())),
+                       still.translation);
+  double pull[2];
+  for (int k = 0; k < 2; ++k) {
+    PoseFilter filter;
+    for (int i = 0; i < 30; ++i) filter.Update(still, i / 45.0);
+    const PoseFilterUpdate u = filter.Update(tilted, 30 / 45.0, 0.0, k == 0 ? 1.0 : 25.0);
+    ASSERT_FALSE(u.gated);
+    pull[k] = RotationDistanceRad(u.filtered, still);
+  }
+  EXPECT_GT(pull[0], 0.0);
+  EXPECT_LT(pull[1], kPullRatio * pull[0]);
+  PoseFilter filter;
+  EXPECT_THROW(filter.Update(still, 0.0, 0.0, 0.5), PreconditionError);
+}
+
+// A state started from one poorly fitted pose (4 deg off, variance x 20) does not gate the next,
+// well fitted one as an outlier: the filter starts again from it.
+TEST(PoseFilter, APoorStartDoesNotLockOutBetterMeasurements) {
+  const Rigid3d truth(Eigen::Quaterniond::Identity(), {0, 0, 500});
+  const Rigid3d off(Eigen::Quaterniond(Eigen::AngleAxisd(4.0 * kDeg, Eigen::Vector3d::UnitY())),
+                    truth.translation);
+  PoseFilterOptions options;
+  options.initial_rate_sigma_rad_per_s = 0.01;  // a still tool: the state is confident at once
+  PoseFilter filter(options);
+  EXPECT_TRUE(filter.Update(off, 0.0, 0.0, 20.0).reset);
+  const PoseFilterUpdate u = filter.Update(truth, 1.0 / 45.0);
+  EXPECT_FALSE(u.gated);
+  EXPECT_TRUE(u.reset);
+  EXPECT_THAT(u.filtered, RigidNear(truth, 1e-12, 1e-12));
+  // A well fitted start keeps its right to gate: the same jump after a clean start is gated.
+  PoseFilter clean(options);
+  clean.Update(truth, 0.0);
+  EXPECT_TRUE(clean.Update(off, 1.0 / 45.0).gated);
 }
 
 TEST(PoseFilter, ResetsAfterAGapOrWhenTimeGoesBack) {

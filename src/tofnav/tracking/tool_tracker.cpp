@@ -3,16 +3,27 @@
 #include "tofnav/tracking/tool_tracker.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 #include <utility>
 
 #include "tofnav/core/require.hpp"
 
 namespace tofnav {
+namespace {
+
+constexpr double kWorldPositionSigmaMm = 1e3;  // the world filter's position: not judged
+
+}  // namespace
 
 void ToolTrackerOptions::Check() const {
   pose.Check();
   filter.Check();
   Require(max_missed_frames >= 1, "ToolTrackerOptions::max_missed_frames must be >= 1");
+  Require(std::isfinite(world_max_gap_s) && world_max_gap_s > 0.0,
+          "ToolTrackerOptions::world_max_gap_s must be > 0");
+  Require(std::isfinite(world_rate_sigma_rad_per_s) && world_rate_sigma_rad_per_s > 0.0,
+          "ToolTrackerOptions::world_rate_sigma_rad_per_s must be > 0");
   Require(camera_motion_bandwidth_per_s >= 0.0 && camera_motion_baseline_s > 0.0,
           "ToolTrackerOptions: camera_motion_bandwidth_per_s must be >= 0 and "
           "camera_motion_baseline_s > 0");
@@ -23,7 +34,18 @@ ToolTracker::ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptio
   options.Check();
   for (const ToolGeometry& tool : tools_) tool.Check();
   filters_.assign(tools_.size(), PoseFilter(options.filter));
-  world_filters_.assign(tools_.size(), PoseFilter(options.filter));
+  PoseFilterOptions world = options.filter;
+  world.max_gap_s = std::max(world.max_gap_s, options.world_max_gap_s);
+  world.initial_rate_sigma_rad_per_s = options.world_rate_sigma_rad_per_s;
+  world.boost_rate_sigma_rad_per_s =
+      std::min(world.boost_rate_sigma_rad_per_s, options.world_rate_sigma_rad_per_s);
+  world.rotation_accel_sigma_rad_per_s2 =
+      std::min(world.rotation_accel_sigma_rad_per_s2, options.world_rate_sigma_rad_per_s);
+  // Only its orientation is used: the position in `world` carries the headset's SLAM drift
+  // (millimetres over a gap) and must not gate a good orientation.
+  world.position_sigma_mm = kWorldPositionSigmaMm;
+  world.gate_floor_mm = std::numeric_limits<double>::infinity();
+  world_filters_.assign(tools_.size(), PoseFilter(world));
   Reset();
 }
 
@@ -95,7 +117,12 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
         accel_sigma = std::max(options_.filter.position_accel_sigma_mm_per_s2,
                                options_.camera_motion_bandwidth_per_s * speed_mm_per_s);
       }
-      const PoseFilterUpdate update = filters_[t].Update(*raw, timestamp_s, accel_sigma);
+      const ToolPoseResult& m = tracked.measurement;
+      const int dof = 3 * m.used_markers - 6;
+      const double scale = options_.inflate_noise_by_fit && dof > 0
+                               ? std::max(1.0, m.noise_chi2 / static_cast<double>(dof))
+                               : 1.0;
+      const PoseFilterUpdate update = filters_[t].Update(*raw, timestamp_s, accel_sigma, scale);
       tracked.gated = update.gated;
       tracked.filter_reset = update.reset;
       if (!update.gated) tracked.filtered_ahat_from_tool = update.filtered;
@@ -103,8 +130,10 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
         world_filters_[t].Reset();
       } else {
         const PoseFilterUpdate world =
-            world_filters_[t].Update(*world_from_ahat * *raw, timestamp_s);
-        if (!update.gated && !world.gated) {
+            world_filters_[t].Update(*world_from_ahat * *raw, timestamp_s, 0.0, scale);
+        // Gated there, the world filter's output is its prediction: the held orientation of a
+        // tool that stands still, better than the raw one the `ahat` filter may restart from.
+        if (!update.gated) {
           tracked.filtered_ahat_from_tool->rotation =
               (world_from_ahat->Inverse() * world.filtered).rotation;
         }

@@ -24,6 +24,14 @@ struct ToolTrackerOptions {
   /// small tool instead of lagging the head. The position stays filtered in `ahat` (the rig
   /// pose's jitter would add to it). The filter restarts when the world pose comes or goes.
   bool rotation_in_world = true;
+  /// The world-frame orientation filter bridges gaps up to this long (dropped frames, a hand
+  /// over the tool): there the tool stands still, so the held orientation stays valid where the
+  /// `ahat` filter (filter.max_gap_s) must restart from one raw pose.
+  double world_max_gap_s = 1.0;
+  /// ... and starts with, and boosts a large innovation by, at most this rate uncertainty: a
+  /// tool fixed to the patient turns in `world` only with the patient's slow motion, so a few
+  /// bad measurements cannot set it turning (a real turn is gated, then restarts the filter).
+  double world_rate_sigma_rad_per_s = 0.01;
   /// With the camera's world pose over the last camera_motion_baseline_s, a world-fixed tool
   /// moves in `ahat` at the apparent speed v the camera's motion gives it; the head's wander is
   /// smooth (sinusoids up to ~0.45 Hz), so its apparent acceleration is about this bandwidth times
@@ -33,6 +41,12 @@ struct ToolTrackerOptions {
   /// The camera's motion is taken between poses this far apart: the rig pose's per-frame jitter
   /// (0.3 mm, 3e-4 rad in the simulator: ~20 mm/s frame to frame) would look like motion.
   double camera_motion_baseline_s = 0.4;
+  /// A raw pose whose marker fit left more residual than the noise model predicts (its
+  /// noise_chi2 over the 3n - 6 degrees of freedom of n markers, when above 1) enters the filters
+  /// with its noise variances multiplied by that ratio: a sphere cut by a silhouette or a
+  /// multipath range that survived the marker checks tilts the held pose less
+  /// (docs/tracking.md 6).
+  bool inflate_noise_by_fit = true;
   int max_missed_frames = 5;  // frames without a pose before the filter and prior are dropped
   void Check() const;         // throws std::invalid_argument naming the bad field
 };

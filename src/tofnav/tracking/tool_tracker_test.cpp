@@ -112,6 +112,46 @@ TEST(ToolTracker, FiltersTheOrientationInTheWorldWhenTheCameraPoseIsKnown) {
   EXPECT_LT(world2, ahat2);
 }
 
+// The suite's sparse sessions: a frame every 0.156 s, every third slot dropped (0.31 s gaps,
+// beyond the ahat filter's 0.2 s), and a headset whose world position drifts 20 mm/s (SLAM
+// drift). The world orientation filter bridges the gaps and ignores the drift, so the held
+// orientation averages the tilt noise; with the ahat filter's gap and rate it restarts from
+// single raw poses.
+TEST(ToolTracker, HoldsTheWorldOrientationAcrossDroppedFramesAndSlamDrift) {
+  constexpr double kMaxWorldToRawRatio = 0.7;  // filtered vs raw rotation RMS
+  ToolTracker bridged({ReferenceTool()});
+  ToolTrackerOptions restarting_options;
+  restarting_options.world_max_gap_s = restarting_options.filter.max_gap_s;
+  restarting_options.world_rate_sigma_rad_per_s = 1000.0;
+  ToolTracker restarting({ReferenceTool()}, restarting_options);
+  const Rigid3d world_from_tool = testing::FacingToolPose({0.0, 0.0, 450.0}, 0.3, 0.2);
+  std::mt19937_64 rng(9);
+  double raw2 = 0.0, bridged2 = 0.0, restarting2 = 0.0;
+  int n = 0;
+  double t = 0.0;
+  for (int i = 0; i < 90; ++i) {
+    t += i % 3 == 2 ? 0.311 : 0.156;
+    const Rigid3d true_world_from_ahat = TurningCamera(t);
+    Rigid3d slam_world_from_ahat = true_world_from_ahat;
+    slam_world_from_ahat.translation += Eigen::Vector3d(20.0 * t, 0.0, 0.0);
+    const Rigid3d truth = true_world_from_ahat.Inverse() * world_from_tool;
+    const std::vector<DetectedMarker> d = testing::ToolDetections(ReferenceTool(), truth, 0.3, rng);
+    const TrackedTool a = bridged.Track(d, t, slam_world_from_ahat).tools[0];
+    const TrackedTool b = restarting.Track(d, t, slam_world_from_ahat).tools[0];
+    if (i < 10 || !a.filtered_ahat_from_tool || !b.filtered_ahat_from_tool) continue;
+    raw2 += std::pow(RotationDistanceRad(*a.measurement.ahat_from_tool, truth), 2);
+    bridged2 += std::pow(RotationDistanceRad(*a.filtered_ahat_from_tool, truth), 2);
+    restarting2 += std::pow(RotationDistanceRad(*b.filtered_ahat_from_tool, truth), 2);
+    ++n;
+  }
+  EXPECT_GE(n, 70);
+  RecordProperty("raw_deg", std::to_string(std::sqrt(raw2 / n) * 180.0 / 3.141592653589793));
+  RecordProperty("bridged_deg",
+                 std::to_string(std::sqrt(bridged2 / n) * 180.0 / 3.141592653589793));
+  EXPECT_LT(bridged2, kMaxWorldToRawRatio * kMaxWorldToRawRatio * raw2);
+  EXPECT_LT(bridged2, restarting2);
+}
+
 // The same world-fixed tool: its position in `ahat` moves with the camera at up to ~250 mm/s.
 // The camera's motion raises the position filter's process noise, so the filtered position
 // follows the camera (below the raw error) instead of lagging it (above, with the static tuning).
