@@ -133,9 +133,8 @@ TEST(SeldomObservedMinWeight, ATransientObjectSeenInTwoFramesIsNotMeshed) {
     volume.Integrate(range, poses[i]);
   }
   const auto near_ghost = [&](const TriangleMesh& mesh) {
-    return std::count_if(mesh.vertices.begin(), mesh.vertices.end(), [&](const auto& v) {
-      return (v - ghost).norm() < kGhostRadiusMm + 3.0;
-    });
+    return std::count_if(mesh.vertices.begin(), mesh.vertices.end(),
+                         [&](const auto& v) { return (v - ghost).norm() < kGhostRadiusMm + 3.0; });
   };
   // Frames in which a head point faces the camera at under 60 deg incidence (grazing views
   // update the voxels only within the truncation of their coarse pixels) inside its field of
