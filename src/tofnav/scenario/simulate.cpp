@@ -2,9 +2,7 @@
 // The simulate composition: pre-operative files, then the frame loop writing three streams.
 #include "tofnav/scenario/simulate.hpp"
 
-#include <algorithm>
 #include <bit>
-#include <cctype>
 #include <cstring>
 #include <utility>
 
@@ -64,24 +62,14 @@ void WritePatientFiles(const sim::Scenario& s, const std::filesystem::path& out_
   files.emplace_back("plan", kPlanName);
 }
 
-// The file name of an object's mesh: the name itself, which Scenario::Check already limits to
-// [A-Za-z0-9_-] and makes unique; refused here too, so that no name can leave the folder.
-std::string MeshFileName(const std::string& object_name) {
-  const bool safe =
-      !object_name.empty() && std::all_of(object_name.begin(), object_name.end(), [](char c) {
-        return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-';
-      });
-  Require(safe, "object name '" + object_name + "' is not a file name ([A-Za-z0-9_-])");
-  return std::string(kMeshesDir) + "/" + object_name + ".ply";
-}
-
 // meshes/<object>.ply: every scene object's mesh in its own frame (the mesh truth.json's
-// objects.<name> counts), so evaluators need not rebuild the scenario (docs/simulator.md).
+// objects.<name> counts), so evaluators need not rebuild the scenario (docs/simulator.md). Object
+// names are file names: Scenario::Check limits them to [A-Za-z0-9_-] and makes them unique.
 void WriteObjectMeshes(const sim::Scenario& s, const std::filesystem::path& out_dir,
                        std::vector<std::pair<std::string, std::string>>& files) {
+  std::filesystem::create_directories(out_dir / kMeshesDir);
   for (const sim::SceneObject& o : s.scene.objects) {
-    const std::string name = MeshFileName(o.name);
-    std::filesystem::create_directories(out_dir / kMeshesDir);
+    const std::string name = std::string(kMeshesDir) + "/" + o.name + ".ply";
     WriteMesh(out_dir / name, o.mesh);  // binary PLY, atomic (WriteFileAtomically)
     files.emplace_back("mesh:" + o.name, name);
   }
