@@ -52,6 +52,7 @@ int RunIdentify(int argc, char** argv) {
       "tofnav identify"};
   AddConfigOptions(app);
   std::filesystem::path recording_path, calibration_path, ct_path, skin_path, frf_path, out_path;
+  std::filesystem::path reference_tool_path;
   std::vector<std::filesystem::path> tool_paths;
   std::optional<double> sample_offset;
   int max_frames = 300, folds = 0;
@@ -74,6 +75,14 @@ int RunIdentify(int argc, char** argv) {
          "--tool", tool_paths,
          "tool JSON or NDI .rom (repeatable): its markers, tracked in each frame, are left out")
       ->check(CLI::ExistingFile);
+  app.add_option("--reference-tool", reference_tool_path,
+                 "tool rigid with the head (the headframe; JSON or .rom): with a CT, Err_C places "
+                 "the skin once through its tracked pose and measures the head surface too")
+      ->check(CLI::ExistingFile);
+  app.add_option("--head-surface-weight", options.head_surface_weight,
+                 "weight of the head samples' distances to the skin in Err_C (with "
+                 "--reference-tool), relative to the markers'")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--max-frames", max_frames, "frames used, evenly spread")
       ->check(CLI::PositiveNumber);
   app.add_option("--model", angle_term, "angle term: theta (paper), theta2, 1-cos");
@@ -133,6 +142,7 @@ int RunIdentify(int argc, char** argv) {
   identify.identification = options;
   for (const std::filesystem::path& p : tool_paths)
     identify.exclude_tools.push_back(ReadToolFile(p));
+  if (!reference_tool_path.empty()) identify.reference_tool = ReadToolFile(reference_tool_path);
   ProgressBar progress("identify: frames", quiet || json);
   const IdentifyRecordingResult result = IdentifyFromRecording(
       *recording, camera, frf, skin ? &*skin : nullptr, identify,
@@ -162,6 +172,7 @@ int RunIdentify(int argc, char** argv) {
     for (const auto& [name, count] : result.tool_marker_observations_left_out) tools[name] = count;
     out["tool_marker_observations_left_out"] = tools;
     out["frames_with_tool_markers"] = result.frames_with_tool_markers;
+    out["frames_with_reference_tool"] = result.frames_with_reference_tool;
     out.update(nlohmann::ordered_json{{"initial_cost_mm2", m.report.initial_cost},
                                       {"final_cost_mm2", m.report.final_cost},
                                       {"seconds", m.report.seconds},
@@ -182,6 +193,11 @@ int RunIdentify(int argc, char** argv) {
             << "  multipath " << (m.multipath.enabled ? "removed first" : "not removed")
             << " (docs/correction.md 7)\n";
   PrintLeftOut(m.report);
+  if (!reference_tool_path.empty()) {
+    std::cout << "  reference tool measured in " << result.frames_with_reference_tool << " of "
+              << m.report.frames_used + m.report.frames_left_out
+              << " frames (Err_C placed the skin once through it: docs/correction.md 2)\n";
+  }
   for (const auto& [name, count] : result.tool_marker_observations_left_out) {
     std::cout << "  tool " << name << ": " << count
               << " marker observations left out before the sticker tests (in "

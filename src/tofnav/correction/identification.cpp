@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "tofnav/core/parallel_for.hpp"
+#include "tofnav/correction/joint_correctness.hpp"
 
 namespace tofnav {
 namespace {
@@ -19,10 +20,12 @@ double Robust(double d, double scale) {
   return std::copysign(std::sqrt(scale * (2.0 * a - scale)), d);
 }
 
-// The frames taking part in Err_C with their ICP start poses (refined once at `start`).
+// The frames taking part in Err_C with their ICP start poses (refined once at `start`); with
+// enough reference-tool poses, one placement of the skin for them all (docs/correction.md 2).
 struct CorrectnessPlan {
   std::vector<int> frames;
   std::vector<Rigid3d> guesses;
+  std::optional<Rigid3d> image_from_tool;
   double weight = 1.0;  // sqrt of (frames with Err_S) / (frames with Err_C)
 };
 
@@ -34,16 +37,19 @@ CorrectnessPlan PlanCorrectness(std::span<const IdentificationFrame> frames,
   if (target->image_from_ahat.size() != frames.size()) {
     throw std::invalid_argument("CorrectnessTarget: one image_from_ahat guess per frame");
   }
-  std::vector<int> usable;
+  std::vector<int> usable, with_tool;
   int smooth_frames = 0;
   for (std::size_t i = 0; i < frames.size(); ++i) {
     if (!frames[i].markers.empty()) ++smooth_frames;
-    if (target->image_from_ahat[i] && !frames[i].marker_points.empty() &&
-        frames[i].head.size() >= 50) {
-      usable.push_back(static_cast<int>(i));
-    }
+    if (!target->image_from_ahat[i] || frames[i].head.size() < 50) continue;
+    if (!frames[i].marker_points.empty()) usable.push_back(static_cast<int>(i));
+    if (frames[i].tool_from_ahat) with_tool.push_back(static_cast<int>(i));
   }
-  for (int k : EvenSubsample(static_cast<int>(usable.size()), options.max_correctness_frames)) {
+  bool joint =
+      options.min_tool_pose_frames > 0 && std::ssize(with_tool) >= options.min_tool_pose_frames;
+  if (joint) usable = std::move(with_tool);
+  const int count = joint ? options.max_joint_correctness_frames : options.max_correctness_frames;
+  for (int k : EvenSubsample(static_cast<int>(usable.size()), count)) {
     plan.frames.push_back(usable[static_cast<std::size_t>(k)]);
   }
   plan.guesses.resize(plan.frames.size());
@@ -56,11 +62,47 @@ CorrectnessPlan PlanCorrectness(std::span<const IdentificationFrame> frames,
                              coarse)
             .image_from_ahat;
   });
+  if (joint && !plan.frames.empty()) {
+    const std::optional<Rigid3d> mean = MeanImageFromTool(frames, plan.frames, plan.guesses);
+    const JointCorrectness placed = JointCorrectnessDistances(
+        frames, plan.frames, start, *target->skin_in_image, *mean, coarse);
+    // A frame whose head lies far from the skin once placed has a wrong tool pose (a plate
+    // matched to the other's markers) or no head: it leaves Err_C, and the rest are placed again.
+    std::vector<int> kept;
+    std::vector<Rigid3d> kept_guesses;
+    for (std::size_t c = 0; c < plan.frames.size(); ++c) {
+      std::vector<double> d = placed.head_distances[c];
+      for (double& x : d) x = std::abs(x);
+      if (MedianSpread(std::move(d)).first <= options.joint_frame_max_median_mm) {
+        kept.push_back(plan.frames[c]);
+        kept_guesses.push_back(plan.guesses[c]);
+      }
+    }
+    if (std::ssize(kept) >= options.min_tool_pose_frames) {
+      plan.frames = std::move(kept);
+      plan.guesses = std::move(kept_guesses);
+      plan.image_from_tool =
+          JointCorrectnessDistances(frames, plan.frames, start, *target->skin_in_image,
+                                    placed.image_from_tool, coarse)
+              .image_from_tool;
+    } else {
+      joint = false;  // too few frames agree with their tool pose: each frame on its own
+    }
+  }
   if (!plan.frames.empty()) {
     plan.weight = std::sqrt(std::max(1.0, static_cast<double>(smooth_frames)) /
                             static_cast<double>(plan.frames.size()));
   }
   return plan;
+}
+
+// Appends plan weight x Huber(d - thickness) / sqrt(n) of each distance; returns their plain RMS.
+double AppendCorrectness(std::vector<double> distances, double thickness_mm, double weight,
+                         double huber_mm, std::vector<double>& out) {
+  for (double& x : distances) x -= thickness_mm;
+  const double n = static_cast<double>(distances.size());
+  for (double d : distances) out.push_back(weight * Robust(d, huber_mm) / std::sqrt(n));
+  return Rms(distances);
 }
 
 struct Evaluation {
@@ -99,17 +141,29 @@ Evaluation Evaluate(std::span<const IdentificationFrame> frames, const Correctne
     }
     if (rep.markers > 0) rep.err_s_mm = std::sqrt(sum_sq / rep.markers);
   });
+  const double thickness = options.marker_thickness_mm;
+  if (plan.image_from_tool) {
+    const JointCorrectness joint =
+        JointCorrectnessDistances(frames, plan.frames, model, *target->skin_in_image,
+                                  *plan.image_from_tool, options.correctness);
+    for (std::size_t c = 0; c < plan.frames.size(); ++c) {
+      const auto f = static_cast<std::size_t>(plan.frames[c]);
+      if (!joint.marker_distances[c].empty()) {
+        e.report[f].err_c_mm =
+            AppendCorrectness(joint.marker_distances[c], thickness, plan.weight, h, e.correct[c]);
+      }
+      AppendCorrectness(joint.head_distances[c], 0.0, plan.weight * options.head_surface_weight, h,
+                        e.correct[c]);
+    }
+    return e;
+  }
   ParallelFor(0, static_cast<std::int64_t>(plan.frames.size()), [&](std::int64_t ci) {
     const auto c = static_cast<std::size_t>(ci);
     const auto f = static_cast<std::size_t>(plan.frames[c]);
     CorrectnessFrame result = CorrectnessDistances(frames[f], model, *target->skin_in_image,
                                                    plan.guesses[c], options.correctness);
-    for (double& x : result.distances) x -= options.marker_thickness_mm;
-    const double n = static_cast<double>(result.distances.size());
-    for (double d : result.distances) {
-      e.correct[c].push_back(plan.weight * Robust(d, h) / std::sqrt(n));
-    }
-    e.report[f].err_c_mm = Rms(result.distances);
+    e.report[f].err_c_mm =
+        AppendCorrectness(std::move(result.distances), thickness, plan.weight, h, e.correct[c]);
   });
   return e;
 }
@@ -181,18 +235,12 @@ std::vector<IdentificationFrame> WithoutOutlierMarkers(std::span<const Identific
   return out;
 }
 
-template <typename T>
-std::vector<T> WithoutBlock(std::span<const T> items, std::size_t lo, std::size_t hi) {
-  std::vector<T> out(items.begin(), items.begin() + static_cast<std::ptrdiff_t>(lo));
-  out.insert(out.end(), items.begin() + static_cast<std::ptrdiff_t>(hi), items.end());
-  return out;
-}
-
 struct Fit {
   DepthErrorModel model;  // coefficients only (no report)
   LevenbergMarquardtResult lm;
   Evaluation final_eval;
   bool correctness = false;  // Err_C took part
+  bool joint = false;        // through the reference tool, with the head surface
 };
 
 // One Levenberg-Marquardt minimisation of Eq. (7) from `start`.
@@ -218,6 +266,7 @@ Fit FitOnce(std::span<const IdentificationFrame> frames, const CorrectnessTarget
                                          fit.lm.parameters.data() + fit.lm.parameters.size()));
   fit.final_eval = Evaluate(frames, target, plan, fit.model, options);
   fit.correctness = !plan.frames.empty();
+  fit.joint = plan.image_from_tool.has_value();
   return fit;
 }
 
@@ -225,11 +274,14 @@ Fit FitOnce(std::span<const IdentificationFrame> frames, const CorrectnessTarget
 
 void IdentificationOptions::Check() const {
   if (!(huber_scale_mm >= 0.0) || !(std::abs(marker_thickness_mm) < 10.0) ||
-      max_correctness_frames < 0 || difference_steps.size() != 4 ||
-      !(marker_outlier_spreads > 0.0) || !(min_marker_outlier_mm >= 0.0)) {
+      max_correctness_frames < 0 || max_joint_correctness_frames < 0 ||
+      difference_steps.size() != 4 || !(marker_outlier_spreads > 0.0) ||
+      !(min_marker_outlier_mm >= 0.0) || !(head_surface_weight >= 0.0) ||
+      !(joint_frame_max_median_mm > 0.0)) {
     throw std::invalid_argument(
         "IdentificationOptions: need huber_scale_mm >= 0, max_correctness_frames >= 0, four "
-        "difference_steps, marker_outlier_spreads > 0 and min_marker_outlier_mm >= 0");
+        "difference_steps, marker_outlier_spreads > 0, min_marker_outlier_mm >= 0, "
+        "head_surface_weight >= 0 and joint_frame_max_median_mm > 0");
   }
   for (double s : difference_steps) {
     if (!(s > 0.0)) throw std::invalid_argument("IdentificationOptions: difference_steps > 0");
@@ -294,7 +346,9 @@ DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
   DepthModelFitReport& rep = model.report;
   rep = {};
   rep.method = "levenberg-marquardt";
-  rep.costs = fit.correctness ? "correctness+smoothness" : "smoothness";
+  rep.costs = !fit.correctness ? "smoothness"
+              : fit.joint      ? "correctness+head-surface+smoothness"
+                               : "correctness+smoothness";
   rep.frames_used = frames_used;
   rep.frames_left_out = screening.frames_left_out;
   rep.head_points_left_out = screening.head_points_left_out;
@@ -317,54 +371,6 @@ DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
   rep.frames = std::move(fit.final_eval.report);
   rep.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return model;
-}
-
-std::vector<DepthErrorModel> DefaultModelCandidates() {
-  std::vector<DepthErrorModel> out(4);
-  out[1].angle_term = AngleTerm::kThetaSquared;
-  out[2].angle_term = AngleTerm::kOneMinusCos;
-  out[3].use_intensity = true;
-  return out;
-}
-
-std::vector<std::pair<std::string, double>> CrossValidateModels(
-    std::span<const IdentificationFrame> frames, const CorrectnessTarget* target,
-    std::span<const DepthErrorModel> candidates, int folds, const IdentificationOptions& options) {
-  if (folds < 2 || static_cast<std::size_t>(folds) > frames.size()) {
-    throw std::invalid_argument("CrossValidateModels: need 2 <= folds <= frames");
-  }
-  IdentificationOptions plain = options;
-  plain.huber_scale_mm = 0.0;
-  std::vector<std::pair<std::string, double>> out;
-  for (const DepthErrorModel& candidate : candidates) {
-    double sum = 0.0;
-    int count = 0;
-    for (int fold = 0; fold < folds; ++fold) {
-      const std::size_t lo =
-          frames.size() * static_cast<std::size_t>(fold) / static_cast<std::size_t>(folds);
-      const std::size_t hi =
-          frames.size() * static_cast<std::size_t>(fold + 1) / static_cast<std::size_t>(folds);
-      const std::vector<IdentificationFrame> train = WithoutBlock(frames, lo, hi);
-      CorrectnessTarget train_target;
-      const CorrectnessTarget* train_target_ptr = nullptr;
-      if (target && target->skin_in_image) {
-        train_target.skin_in_image = target->skin_in_image;
-        train_target.image_from_ahat = WithoutBlock(std::span(target->image_from_ahat), lo, hi);
-        train_target_ptr = &train_target;
-      }
-      const DepthErrorModel fitted =
-          IdentifyDepthModel(train, train_target_ptr, candidate, options);
-      const IdentificationCost held =
-          EvaluateIdentificationCost(frames.subspan(lo, hi - lo), nullptr, fitted, plain);
-      for (const FrameResidual& r : held.frames) {
-        if (r.err_s_mm < 0.0) continue;
-        sum += r.err_s_mm * r.err_s_mm;
-        ++count;
-      }
-    }
-    out.emplace_back(candidate.Name(), count > 0 ? sum / count : 0.0);
-  }
-  return out;
 }
 
 }  // namespace tofnav

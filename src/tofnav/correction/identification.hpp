@@ -44,6 +44,19 @@ struct IdentificationOptions {
   /// per-marker counts) [mm]; stickers are placed farther apart than this.
   double marker_group_radius_mm = 10.0;
   CorrectnessOptions correctness;
+  /// Beyond the paper: when at least min_tool_pose_frames correctness frames have a reference-
+  /// tool pose, Err_C places the skin once through the tool (JointCorrectnessDistances) and adds
+  /// each frame's head samples' distances to the skin, weighted by this relative to its markers'
+  /// (docs/correction.md 2). 0 keeps the markers only.
+  int min_tool_pose_frames = 3;
+  /// Frames (evenly chosen among those with a tool pose) in the joint Err_C: one ICP for them
+  /// all per evaluation, so more frames than max_correctness_frames cost little, and they
+  /// average the tracking noise of each frame's pose.
+  int max_joint_correctness_frames = 30;
+  double head_surface_weight = 1.0;
+  /// Frames whose head samples, once placed through the tool, lie farther from the skin than
+  /// this (median) leave Err_C: a wrong tool pose, or no head [mm].
+  double joint_frame_max_median_mm = 3.0;
   LevenbergMarquardtOptions lm;
   /// Central-difference steps of C1 [mm], C2 [1], C3 [mm per unit g], C4 [mm].
   std::vector<double> difference_steps = {0.05, 1e-4, 0.05, 0.05};

@@ -45,7 +45,10 @@ struct IdentificationFrame {
   std::vector<SurfaceSample> head;         // subsampled head surface for the ICP of Err_C (Eq. 5)
   Points3d marker_points;                  // every marker's Eq. (2)-corrected points, `ahat` [mm]
   std::optional<Rigid3d> world_from_ahat;  // from the frame's rig pose, when it has one
-  int curved_markers = 0;                  // markers on the head left out as too curved
+  /// The reference tool's (a tool rigid with the head) tracked pose, inverted, when tracked: Err_C
+  /// then places the skin once for all frames (JointCorrectnessDistances).
+  std::optional<Rigid3d> tool_from_ahat;
+  int curved_markers = 0;  // markers on the head left out as too curved
 };
 
 struct IdentificationSampling {

@@ -107,6 +107,9 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   options.max_frames = static_cast<int>(ctx.session_frames);
   // Tracked tools' markers are left out before the sticker tests (docs/correction.md 2).
   if (ctx.session) options.exclude_tools = SessionTrackedTools(ctx);
+  // Err_C places the skin once through the headframe, as reconstruct fuses (docs/correction.md 2).
+  const std::filesystem::path headframe = ctx.session_dir / "tools" / "headframe.json";
+  if (std::filesystem::exists(headframe)) options.reference_tool = ReadToolJson(headframe);
   // The device's illuminator constant K is what a user calibrates once per headset; the
   // simulator's multipath gain g scales the indirect light, which the removal sees as a device
   // of constant K / g (none at g = 0: a world without indirect light). docs/correction.md 7.
@@ -136,6 +139,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
                     {"marker_observations_rejected", m.report.marker_observations_rejected},
                     {"marker_observations_curved", m.report.marker_observations_curved},
                     {"tool_marker_observations_left_out", ToolMarkersLeftOut(identified)},
+                    {"frames_with_reference_tool", identified.frames_with_reference_tool},
                     {"seconds", m.report.seconds}};
   stage["depth_model_json"] = "depth_model.json";
 

@@ -12,31 +12,54 @@
 namespace tofnav {
 namespace {
 
+// The frame's markers, located and corrected by f_rf as `tofnav track` has them.
+struct FrameMarkers {
+  std::vector<DetectedMarker> markers;
+  std::vector<DroppedBlob> dropped;
+};
+
+FrameMarkers LocateCorrected(const AhatFrame& frame, const AhatCamera& camera,
+                             const MarkerRangeModel& marker_range,
+                             const IdentifyRecordingOptions& options) {
+  MarkerDetectionResult detected = LocateMarkers(frame, camera, options.detection);
+  FrameMarkers out{std::move(detected.markers), std::move(detected.dropped)};
+  if (!marker_range.empty())
+    out.markers = CorrectMarkerRanges(std::move(out.markers), marker_range);
+  return out;
+}
+
+// The reference tool's pose in this frame alone, when measured with 4 or more markers.
+std::optional<Rigid3d> ReferenceToolFromAhat(const FrameMarkers& m, double timestamp_s,
+                                             ToolTracker& tracker) {
+  tracker.Reset();  // frames are far apart: each is measured on its own
+  const TrackingFrame tracked = tracker.Track(m.markers, timestamp_s, std::nullopt, m.dropped);
+  const ToolPoseResult& pose = tracked.tools.front().measurement;
+  if (!pose.ahat_from_tool || pose.used_markers < 4) return std::nullopt;
+  return pose.ahat_from_tool->Inverse();
+}
+
 // Blanks (range and AB 0) the pixels within the blob's radius + margin of every marker matched to
 // a tool; returns the matched markers per tool.
-std::vector<int> BlankToolMarkers(AhatFrame& frame, const AhatCamera& camera,
-                                  const MarkerRangeModel& marker_range, ToolTracker& tracker,
+std::vector<int> BlankToolMarkers(AhatFrame& frame, const FrameMarkers& m, ToolTracker& tracker,
                                   const IdentifyRecordingOptions& options) {
-  MarkerDetectionResult detected = LocateMarkers(frame, camera, options.detection);
-  std::vector<DetectedMarker> markers = std::move(detected.markers);
-  if (!marker_range.empty()) markers = CorrectMarkerRanges(std::move(markers), marker_range);
+  const std::vector<DetectedMarker>& markers = m.markers;
   tracker.Reset();  // frames are far apart: each is matched on its own
   const TrackingFrame tracked =
-      tracker.Track(markers, frame.timestamp_s(), std::nullopt, detected.dropped);
+      tracker.Track(markers, frame.timestamp_s(), std::nullopt, m.dropped);
   std::vector<int> blanked(tracked.tools.size(), 0);
   const int width = frame.range_mm.width(), height = frame.range_mm.height();
   for (std::size_t t = 0; t < tracked.tools.size(); ++t) {
     for (const int d : tracked.tools[t].measurement.marker_detection) {
       if (d < 0) continue;
-      const DetectedMarker& m = markers[static_cast<std::size_t>(d)];
-      const double r = std::sqrt(m.area_px / std::numbers::pi) + options.tool_marker_margin_px;
-      const int u0 = std::max(0, static_cast<int>(std::floor(m.pixel.x() - r)));
-      const int u1 = std::min(width - 1, static_cast<int>(std::ceil(m.pixel.x() + r)));
-      const int v0 = std::max(0, static_cast<int>(std::floor(m.pixel.y() - r)));
-      const int v1 = std::min(height - 1, static_cast<int>(std::ceil(m.pixel.y() + r)));
+      const DetectedMarker& dm = markers[static_cast<std::size_t>(d)];
+      const double r = std::sqrt(dm.area_px / std::numbers::pi) + options.tool_marker_margin_px;
+      const int u0 = std::max(0, static_cast<int>(std::floor(dm.pixel.x() - r)));
+      const int u1 = std::min(width - 1, static_cast<int>(std::ceil(dm.pixel.x() + r)));
+      const int v0 = std::max(0, static_cast<int>(std::floor(dm.pixel.y() - r)));
+      const int v1 = std::min(height - 1, static_cast<int>(std::ceil(dm.pixel.y() + r)));
       for (int v = v0; v <= v1; ++v) {
         for (int u = u0; u <= u1; ++u) {
-          if (std::hypot(u - m.pixel.x(), v - m.pixel.y()) > r) continue;
+          if (std::hypot(u - dm.pixel.x(), v - dm.pixel.y()) > r) continue;
           frame.range_mm(u, v) = 0;
           frame.ab(u, v) = 0;
         }
@@ -58,16 +81,24 @@ IdentifyRecordingResult IdentifyFromRecording(
       EvenSubsample(static_cast<int>(recording.frame_count()), options.max_frames);
   IdentifyRecordingResult result;
   const MarkerRangeModel frf = marker_range.value_or(MarkerRangeModel{});
-  std::optional<ToolTracker> tracker;
+  std::optional<ToolTracker> tracker, reference;
   std::vector<std::int64_t> left_out(options.exclude_tools.size(), 0);
   if (!options.exclude_tools.empty()) tracker.emplace(options.exclude_tools);
-  const std::vector<IdentificationFrame> frames = PrepareIdentificationFrames(
+  if (options.reference_tool) reference.emplace(std::vector{*options.reference_tool});
+  std::vector<std::optional<Rigid3d>> tool_from_ahat(recording.frame_count());
+  std::vector<IdentificationFrame> frames = PrepareIdentificationFrames(
       picked,
       [&](int i) {
         AhatFrame frame = recording.ReadFrame(static_cast<std::size_t>(i));
         if (options.prepare_frame) options.prepare_frame(frame);
+        if (!tracker && !reference) return frame;
+        const FrameMarkers markers = LocateCorrected(frame, camera, frf, options);
+        if (reference) {
+          tool_from_ahat[static_cast<std::size_t>(i)] =
+              ReferenceToolFromAhat(markers, frame.timestamp_s(), *reference);
+        }
         if (tracker) {
-          const std::vector<int> blanked = BlankToolMarkers(frame, camera, frf, *tracker, options);
+          const std::vector<int> blanked = BlankToolMarkers(frame, markers, *tracker, options);
           int any = 0;
           for (std::size_t t = 0; t < blanked.size(); ++t) {
             left_out[t] += blanked[t];
@@ -78,6 +109,10 @@ IdentifyRecordingResult IdentifyFromRecording(
         return frame;
       },
       camera, frf, options.sampling, progress);
+  for (IdentificationFrame& f : frames) {
+    f.tool_from_ahat = tool_from_ahat[static_cast<std::size_t>(f.index)];
+    if (f.tool_from_ahat) ++result.frames_with_reference_tool;
+  }
   for (std::size_t t = 0; t < left_out.size(); ++t) {
     result.tool_marker_observations_left_out.emplace_back(options.exclude_tools[t].name,
                                                           left_out[t]);

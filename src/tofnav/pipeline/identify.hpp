@@ -38,6 +38,10 @@ struct IdentifyRecordingOptions {
   /// the preparation. The ring and curvature tests leave out most such markers but not all
   /// (docs/correction.md 2). Empty: no tracking.
   std::vector<ToolGeometry> exclude_tools;
+  /// A tool rigid with the head (the headframe), tracked in each frame (4 or more markers) so that
+  /// Err_C places the skin once through it (JointCorrectnessDistances, docs/correction.md 2).
+  /// Unset: Err_C registers each frame on its own (the paper).
+  std::optional<ToolGeometry> reference_tool;
   MarkerDetectionOptions detection;
   double tool_marker_margin_px = 6.0;  // beyond the blob's radius: its transitional band and more
 };
@@ -52,6 +56,7 @@ struct IdentifyRecordingResult {
   /// and the frames in which at least one was.
   std::vector<std::pair<std::string, std::int64_t>> tool_marker_observations_left_out;
   std::int64_t frames_with_tool_markers = 0;
+  std::int64_t frames_with_reference_tool = 0;  // frames whose reference-tool pose was measured
 };
 
 /// Prepares up to options.max_frames frames (markers corrected by `marker_range` when given),
