@@ -88,6 +88,9 @@ int RunReconstruct(int argc, char** argv) {
                  "mesh only surface seen in at least this many frames (weight units)");
   app.add_option("--min-observed-fraction", options.min_observed_fraction,
                  "... and in at least this fraction of the frames fused (0 and 0: off)");
+  app.add_option("--boundary-rings", options.boundary_rings_removed,
+                 "rings of triangles taken off the surface's open boundaries (0: off)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--min-range-mm", options.tsdf.min_range_mm);
   app.add_option("--max-range-mm", options.tsdf.max_range_mm);
   app.add_option("--first-frame", options.first_frame);
@@ -184,6 +187,7 @@ int RunReconstruct(int argc, char** argv) {
         {"vertices_before_component", r.mesh_vertices_before_component},
         {"mesh_min_weight", r.mesh_min_weight},
         {"vertices_seldom_observed", r.vertices_seldom_observed},
+        {"vertices_at_boundary_removed", r.vertices_at_boundary_removed},
         {"read_s", r.read_s},
         {"track_s", r.track_s},
         {"prepare_s", r.prepare_s},
@@ -209,7 +213,9 @@ int RunReconstruct(int argc, char** argv) {
   std::cout << "); " << r.frames_model_checked << " checked against the model, "
             << r.frames_pose_checked << " over time; " << r.pixels_gated << " pixels gated\n"
             << "  surface seen in fewer than " << r.mesh_min_weight
-            << " frames left out: " << r.vertices_seldom_observed << " vertices\n"
+            << " frames left out: " << r.vertices_seldom_observed << " vertices; "
+            << options.boundary_rings_removed
+            << " rings off the boundary: " << r.vertices_at_boundary_removed << " vertices\n"
             << "  ROI (" << (r.roi_automatic ? "automatic" : "given") << ") ["
             << r.roi_in_tool.min().transpose() << "] - [" << r.roi_in_tool.max().transpose()
             << "] mm in " << tool.name << "\n"

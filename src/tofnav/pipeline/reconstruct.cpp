@@ -11,6 +11,7 @@
 #include "tofnav/core/frame_batches.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/correction/frame_segmentation.hpp"
+#include "tofnav/fusion/mesh_boundary.hpp"
 #include "tofnav/fusion/mesh_components.hpp"
 #include "tofnav/pipeline/reconstruct_frames.hpp"
 
@@ -92,6 +93,7 @@ void ReconstructOptions::Check() const {
   Require(min_ab_weight > 0.0 && min_ab_weight <= 1.0,
           "ReconstructOptions::min_ab_weight must be in (0, 1]");
   Require(frame_step >= 1, "ReconstructOptions::frame_step must be >= 1");
+  Require(boundary_rings_removed >= 0, "ReconstructOptions::boundary_rings_removed must be >= 0");
   Require(!max_frames || *max_frames >= 1, "ReconstructOptions::max_frames must be >= 1");
   Require(std::isfinite(min_observed_frames) && min_observed_frames >= 0.0,
           "ReconstructOptions::min_observed_frames must be >= 0");
@@ -357,6 +359,11 @@ ReconstructResult ReconstructSurface(
         ConnectedComponentAround(mesh, *looked_at_in_tool, options.auto_roi.component_radius_mm);
   } else {
     result.mesh = LargestConnectedComponent(mesh);
+  }
+  if (options.boundary_rings_removed > 0) {
+    ErodedMesh eroded = ErodeBoundary(result.mesh, options.boundary_rings_removed);
+    result.mesh = std::move(eroded.mesh);
+    result.vertices_at_boundary_removed = eroded.vertices_removed;
   }
   result.mesh_s = Seconds(t);
   result.total_s = Seconds(start);

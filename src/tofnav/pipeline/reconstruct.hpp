@@ -61,6 +61,10 @@ struct ReconstructOptions {
   /// view-dependent error) are where the head's vertices beyond 3 mm lie. 0 and 0: off.
   double min_observed_frames = 5.0;
   double min_observed_fraction = 0.05;
+  /// Rings of triangles taken off the surface's open boundaries after the component is chosen
+  /// (ErodeBoundary, docs/reconstruction.md 1.3): what survives the threshold at a rim is still
+  /// where the views graze and the few frames that see it disagree. 0: off.
+  int boundary_rings_removed = 3;
   AutoRoiOptions auto_roi;  // used when tsdf.roi_in_tool is empty
   /// Automatic head region per frame (correction/head_region.hpp, the one identification uses):
   /// pixels outside it (headframe board, tool plates, fragments) are not fused. Disable for
@@ -118,6 +122,7 @@ struct ReconstructResult {
   double mesh_min_weight = 0.0;  // the threshold used (min_observed_frames, _fraction)
   /// Marching-cubes vertices left out as seen in too few frames (before the component).
   std::size_t vertices_seldom_observed = 0;
+  std::size_t vertices_at_boundary_removed = 0;  // by boundary_rings_removed (after the component)
   double read_s = 0.0;     // decoding frames
   double prepare_s = 0.0;  // markers, f_rf, range cleaning, Eq. (4), AB weights (in parallel)
   double track_s = 0.0;    // tool poses and the temporal check
