@@ -55,7 +55,7 @@ int RunIdentify(int argc, char** argv) {
   std::filesystem::path reference_tool_path;
   std::vector<std::filesystem::path> tool_paths;
   std::optional<double> sample_offset;
-  int max_frames = 300, folds = 0;
+  int max_frames = 300, folds = 0, min_reference_markers = 6;
   std::optional<double> iso_hu;
   std::string angle_term = "theta";
   bool intensity = false, quiet = false, json = false;
@@ -79,6 +79,10 @@ int RunIdentify(int argc, char** argv) {
                  "tool rigid with the head (the headframe; JSON or .rom): with a CT, Err_C places "
                  "the skin once through its tracked pose and measures the head surface too")
       ->check(CLI::ExistingFile);
+  app.add_option("--min-reference-markers", min_reference_markers,
+                 "markers a frame's reference-tool pose needs to count (one plate of 4 is too "
+                 "imprecise at the head)")
+      ->check(CLI::PositiveNumber);
   app.add_option("--head-surface-weight", options.head_surface_weight,
                  "weight of the head samples' distances to the skin in Err_C (with "
                  "--reference-tool), relative to the markers'")
@@ -143,6 +147,7 @@ int RunIdentify(int argc, char** argv) {
   for (const std::filesystem::path& p : tool_paths)
     identify.exclude_tools.push_back(ReadToolFile(p));
   if (!reference_tool_path.empty()) identify.reference_tool = ReadToolFile(reference_tool_path);
+  identify.min_reference_markers = min_reference_markers;
   ProgressBar progress("identify: frames", quiet || json);
   const IdentifyRecordingResult result = IdentifyFromRecording(
       *recording, camera, frf, skin ? &*skin : nullptr, identify,

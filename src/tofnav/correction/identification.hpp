@@ -49,11 +49,11 @@ struct IdentificationOptions {
   /// each frame's head samples' distances to the skin, weighted by this relative to its markers'
   /// (docs/correction.md 2). 0 keeps the markers only.
   int min_tool_pose_frames = 3;
+  double head_surface_weight = 0.3;
   /// Frames (evenly chosen among those with a tool pose) in the joint Err_C: one ICP for them
   /// all per evaluation, so more frames than max_correctness_frames cost little, and they
   /// average the tracking noise of each frame's pose.
   int max_joint_correctness_frames = 30;
-  double head_surface_weight = 1.0;
   /// Frames whose head samples, once placed through the tool, lie farther from the skin than
   /// this (median) leave Err_C: a wrong tool pose, or no head [mm].
   double joint_frame_max_median_mm = 3.0;

@@ -28,13 +28,13 @@ FrameMarkers LocateCorrected(const AhatFrame& frame, const AhatCamera& camera,
   return out;
 }
 
-// The reference tool's pose in this frame alone, when measured with 4 or more markers.
+// The reference tool's pose in this frame alone, when measured with min_markers or more.
 std::optional<Rigid3d> ReferenceToolFromAhat(const FrameMarkers& m, double timestamp_s,
-                                             ToolTracker& tracker) {
+                                             ToolTracker& tracker, int min_markers) {
   tracker.Reset();  // frames are far apart: each is measured on its own
   const TrackingFrame tracked = tracker.Track(m.markers, timestamp_s, std::nullopt, m.dropped);
   const ToolPoseResult& pose = tracked.tools.front().measurement;
-  if (!pose.ahat_from_tool || pose.used_markers < 4) return std::nullopt;
+  if (!pose.ahat_from_tool || pose.used_markers < min_markers) return std::nullopt;
   return pose.ahat_from_tool->Inverse();
 }
 
@@ -94,8 +94,8 @@ IdentifyRecordingResult IdentifyFromRecording(
         if (!tracker && !reference) return frame;
         const FrameMarkers markers = LocateCorrected(frame, camera, frf, options);
         if (reference) {
-          tool_from_ahat[static_cast<std::size_t>(i)] =
-              ReferenceToolFromAhat(markers, frame.timestamp_s(), *reference);
+          tool_from_ahat[static_cast<std::size_t>(i)] = ReferenceToolFromAhat(
+              markers, frame.timestamp_s(), *reference, options.min_reference_markers);
         }
         if (tracker) {
           const std::vector<int> blanked = BlankToolMarkers(frame, markers, *tracker, options);

@@ -38,10 +38,14 @@ struct IdentifyRecordingOptions {
   /// the preparation. The ring and curvature tests leave out most such markers but not all
   /// (docs/correction.md 2). Empty: no tracking.
   std::vector<ToolGeometry> exclude_tools;
-  /// A tool rigid with the head (the headframe), tracked in each frame (4 or more markers) so that
-  /// Err_C places the skin once through it (JointCorrectnessDistances, docs/correction.md 2).
-  /// Unset: Err_C registers each frame on its own (the paper).
+  /// A tool rigid with the head (the headframe), tracked in each frame so that Err_C places the
+  /// skin once through it (JointCorrectnessDistances, docs/correction.md 2). Unset: Err_C
+  /// registers each frame on its own (the paper).
   std::optional<ToolGeometry> reference_tool;
+  /// A frame's reference pose counts only with this many markers in it: one 4-marker plate
+  /// tilts by tenths of a degree, a millimetre at the head 200 mm away, which the model then
+  /// absorbs (measured in docs/correction.md 2). A headframe of one plate never reaches 6.
+  int min_reference_markers = 6;
   MarkerDetectionOptions detection;
   double tool_marker_margin_px = 6.0;  // beyond the blob's radius: its transitional band and more
 };
