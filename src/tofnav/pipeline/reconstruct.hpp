@@ -123,7 +123,7 @@ struct ReconstructResult {
   /// Marching-cubes vertices left out as seen in too few frames (before the component).
   std::size_t vertices_seldom_observed = 0;
   std::size_t vertices_at_boundary_removed = 0;  // by boundary_rings_removed (after the component)
-  double read_s = 0.0;     // decoding frames
+  double read_s = 0.0;                           // decoding frames
   double prepare_s = 0.0;  // markers, f_rf, range cleaning, Eq. (4), AB weights (in parallel)
   double track_s = 0.0;    // tool poses and the temporal check
   double fuse_s = 0.0;     // model checks, pixel gates and TsdfVolume::Integrate
