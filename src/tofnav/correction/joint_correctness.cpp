@@ -6,16 +6,11 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "tofnav/core/parallel_for.hpp"
 #include "tofnav/registration/icp.hpp"
 
 namespace tofnav {
 namespace {
-
-double SignedDistance(const SurfaceIndex& skin, const Eigen::Vector3d& q, double max_mm) {
-  const std::optional<Neighbour> nn = skin.Nearest(q, max_mm);
-  if (!nn) return max_mm;
-  return skin.normals()[nn->index].dot(q - skin.points()[nn->index]);
-}
 
 const Rigid3d& ToolFromAhat(const IdentificationFrame& frame) {
   if (!frame.tool_from_ahat) {
@@ -35,9 +30,11 @@ JointCorrectness JointCorrectnessDistances(std::span<const IdentificationFrame> 
   JointCorrectness out;
   out.image_from_tool = image_from_tool_guess;
   Points3d head_in_tool;
+  std::vector<std::size_t> first_head;  // per frame: its first sample in head_in_tool
   for (const int f : frame_indices) {
     const IdentificationFrame& frame = frames[static_cast<std::size_t>(f)];
     const Rigid3d& tool_from_ahat = ToolFromAhat(frame);
+    first_head.push_back(head_in_tool.size());
     for (const SurfaceSample& s : frame.head) {
       head_in_tool.push_back(tool_from_ahat * CorrectedPoint(s, model));
     }
@@ -56,19 +53,20 @@ JointCorrectness JointCorrectnessDistances(std::span<const IdentificationFrame> 
   }
   out.marker_distances.resize(frame_indices.size());
   out.head_distances.resize(frame_indices.size());
-  std::size_t next_head = 0;
-  for (std::size_t c = 0; c < frame_indices.size(); ++c) {
+  ParallelFor(0, std::ssize(frame_indices), [&](std::int64_t ci) {  // per evaluation: the hot path
+    const auto c = static_cast<std::size_t>(ci);
     const IdentificationFrame& frame = frames[static_cast<std::size_t>(frame_indices[c])];
     const Rigid3d image_from_ahat = out.image_from_tool * ToolFromAhat(frame);
     for (const Eigen::Vector3d& m : frame.marker_points) {
       out.marker_distances[c].push_back(
-          SignedDistance(skin_in_image, image_from_ahat * m, options.max_distance_mm));
+          SkinSignedDistance(skin_in_image, image_from_ahat * m, options.max_distance_mm));
     }
     for (std::size_t i = 0; i < frame.head.size(); ++i) {
-      out.head_distances[c].push_back(SignedDistance(
-          skin_in_image, out.image_from_tool * head_in_tool[next_head++], options.max_distance_mm));
+      out.head_distances[c].push_back(
+          SkinSignedDistance(skin_in_image, out.image_from_tool * head_in_tool[first_head[c] + i],
+                             options.max_distance_mm));
     }
-  }
+  });
   return out;
 }
 

@@ -7,18 +7,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "correction_test_scenes.hpp"
+
 namespace tofnav {
 namespace {
 
-const Eigen::Vector3d kSemiAxesMm(80.0, 95.0, 110.0);
+using testing::TrueModel;
 
-DepthErrorModel Biased() {
-  DepthErrorModel m;
-  m.c1_mm = 2.8;
-  m.c2 = 0.010;
-  m.c3_mm = 4.0;
-  return m;
-}
+const Eigen::Vector3d kSemiAxesMm(80.0, 95.0, 110.0);
 
 Eigen::Vector3d EllipsoidPoint(double a, double b) {
   return {kSemiAxesMm.x() * std::sin(a) * std::cos(b), kSemiAxesMm.y() * std::sin(a) * std::sin(b),
@@ -88,11 +84,11 @@ double MedianAbs(const std::vector<std::vector<double>>& per_frame) {
 TEST(JointCorrectnessDistances, TheTrueModelPutsEveryViewOnTheSkinAndNoModelCannot) {
   constexpr double kSkinTolMm = 0.05;  // point-to-plane to a 2 mm sampling of a >= 80 mm radius
   const SurfaceIndex skin = EllipsoidSkin();
-  const std::vector<IdentificationFrame> frames = Views(Biased());
+  const std::vector<IdentificationFrame> frames = Views(TrueModel());
   const std::vector<int> all = {0, 1, 2, 3};
   const Rigid3d guess(Eigen::Quaterniond(Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitZ())),
                       Eigen::Vector3d(1.0, -1.0, 1.5));
-  const JointCorrectness good = JointCorrectnessDistances(frames, all, Biased(), skin, guess);
+  const JointCorrectness good = JointCorrectnessDistances(frames, all, TrueModel(), skin, guess);
   ASSERT_EQ(good.head_distances.size(), 4u);
   EXPECT_LT(MedianAbs(good.head_distances), kSkinTolMm);
   EXPECT_LT(TranslationDistanceMm(good.image_from_tool, Rigid3d::Identity()), 0.05);
@@ -105,16 +101,16 @@ TEST(JointCorrectnessDistances, TheTrueModelPutsEveryViewOnTheSkinAndNoModelCann
 }
 
 TEST(JointCorrectnessDistances, ThrowsOnAFrameWithoutAToolPose) {
-  std::vector<IdentificationFrame> frames = Views(Biased());
+  std::vector<IdentificationFrame> frames = Views(TrueModel());
   frames[2].tool_from_ahat.reset();
   const std::vector<int> all = {0, 1, 2, 3};
-  EXPECT_THROW(JointCorrectnessDistances(frames, all, Biased(), EllipsoidSkin(), Rigid3d()),
+  EXPECT_THROW(JointCorrectnessDistances(frames, all, TrueModel(), EllipsoidSkin(), Rigid3d()),
                std::invalid_argument);
 }
 
 TEST(MeanImageFromTool, AveragesConsistentPlacementsAcrossTheQuaternionSign) {
   constexpr double kTol = 1e-9;  // exact arithmetic up to rounding
-  const std::vector<IdentificationFrame> frames = Views(Biased());
+  const std::vector<IdentificationFrame> frames = Views(TrueModel());
   const Rigid3d image_from_tool(
       Eigen::Quaterniond(Eigen::AngleAxisd(2.0, Eigen::Vector3d(1, 2, 3).normalized())),
       Eigen::Vector3d(5.0, 6.0, 7.0));

@@ -90,6 +90,13 @@ void CorrectnessOptions::Check() const {
   }
 }
 
+double SkinSignedDistance(const SurfaceIndex& skin, const Eigen::Vector3d& point_in_image,
+                          double max_mm) {
+  const std::optional<Neighbour> nn = skin.Nearest(point_in_image, max_mm);
+  if (!nn) return max_mm;
+  return skin.normals()[nn->index].dot(point_in_image - skin.points()[nn->index]);
+}
+
 CorrectnessFrame CorrectnessDistances(const IdentificationFrame& frame,
                                       const DepthErrorModel& model, const SurfaceIndex& skin,
                                       const Rigid3d& image_from_ahat_guess,
@@ -108,14 +115,8 @@ CorrectnessFrame CorrectnessDistances(const IdentificationFrame& frame,
   }
   out.distances.reserve(frame.marker_points.size());
   for (const Eigen::Vector3d& m : frame.marker_points) {
-    const Eigen::Vector3d q = out.image_from_ahat * m;
-    const std::optional<Neighbour> nn = skin.Nearest(q, options.max_distance_mm);
-    if (!nn) {
-      out.distances.push_back(options.max_distance_mm);
-      continue;
-    }
-    const Eigen::Vector3d& p = skin.points()[nn->index];
-    out.distances.push_back(skin.normals()[nn->index].dot(q - p));
+    out.distances.push_back(
+        SkinSignedDistance(skin, out.image_from_ahat * m, options.max_distance_mm));
   }
   return out;
 }

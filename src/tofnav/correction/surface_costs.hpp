@@ -45,6 +45,11 @@ struct CorrectnessFrame {
   std::vector<double> distances;  // signed, per marker point (outside the skin > 0) [mm]
 };
 
+/// Signed point-to-plane distance of `point_in_image` to the nearest skin sample (outside > 0),
+/// or `max_mm` when no sample lies within `max_mm` (keeps the residual count fixed) [mm].
+double SkinSignedDistance(const SurfaceIndex& skin, const Eigen::Vector3d& point_in_image,
+                          double max_mm);
+
 /// Corrects the frame's head samples with `model` (Eq. 4), registers them to the skin by the
 /// registration module's point-to-plane ICP from `image_from_ahat_guess`, and measures each
 /// Eq. (2)-corrected marker point's signed distance to the skin (point-to-plane to the nearest

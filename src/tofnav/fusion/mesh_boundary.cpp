@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/fusion/mesh_components.hpp"
 
 namespace tofnav {
 namespace {
@@ -50,28 +51,9 @@ ErodedMesh ErodeBoundary(const TriangleMesh& mesh, int rings) {
              boundary[static_cast<std::size_t>(t[2])];
     });
   }
-  std::vector<int> remap(mesh.vertices.size(), -1);
-  for (const Eigen::Vector3i& t : triangles) {
-    for (int k = 0; k < 3; ++k) remap[static_cast<std::size_t>(t[k])] = 0;
-  }
   ErodedMesh out;
-  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-    if (remap[v] < 0) {
-      ++out.vertices_removed;
-      continue;
-    }
-    remap[v] = static_cast<int>(out.mesh.vertices.size());
-    out.mesh.vertices.push_back(mesh.vertices[v]);
-    if (!mesh.vertex_normals.empty()) out.mesh.vertex_normals.push_back(mesh.vertex_normals[v]);
-    if (!mesh.vertex_colors.empty()) out.mesh.vertex_colors.push_back(mesh.vertex_colors[v]);
-    if (!mesh.vertex_scalars.empty()) out.mesh.vertex_scalars.push_back(mesh.vertex_scalars[v]);
-  }
-  out.mesh.triangles.reserve(triangles.size());
-  for (const Eigen::Vector3i& t : triangles) {
-    out.mesh.triangles.emplace_back(remap[static_cast<std::size_t>(t[0])],
-                                    remap[static_cast<std::size_t>(t[1])],
-                                    remap[static_cast<std::size_t>(t[2])]);
-  }
+  out.mesh = WithTriangles(mesh, triangles);
+  out.vertices_removed = mesh.vertices.size() - out.mesh.vertices.size();
   return out;
 }
 

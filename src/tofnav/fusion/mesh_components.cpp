@@ -47,26 +47,38 @@ DisjointSets Components(const TriangleMesh& mesh) {
 
 // The triangles (and their vertices) of the component with root `root`, in their order.
 TriangleMesh KeepComponent(const TriangleMesh& mesh, DisjointSets& sets, std::size_t root) {
-  TriangleMesh out;
+  std::vector<Eigen::Vector3i> kept;
+  for (const Eigen::Vector3i& t : mesh.triangles) {
+    if (sets.Find(static_cast<std::size_t>(t[0])) == root) kept.push_back(t);
+  }
+  return WithTriangles(mesh, kept);
+}
+
+}  // namespace
+
+TriangleMesh WithTriangles(const TriangleMesh& mesh,
+                           const std::vector<Eigen::Vector3i>& triangles) {
   std::vector<int> remap(mesh.vertices.size(), -1);
+  for (const Eigen::Vector3i& t : triangles) {
+    for (int k = 0; k < 3; ++k) remap[static_cast<std::size_t>(t[k])] = 0;
+  }
+  TriangleMesh out;
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
-    if (sets.Find(v) != root) continue;
+    if (remap[v] < 0) continue;
     remap[v] = static_cast<int>(out.vertices.size());
     out.vertices.push_back(mesh.vertices[v]);
     if (!mesh.vertex_normals.empty()) out.vertex_normals.push_back(mesh.vertex_normals[v]);
     if (!mesh.vertex_colors.empty()) out.vertex_colors.push_back(mesh.vertex_colors[v]);
     if (!mesh.vertex_scalars.empty()) out.vertex_scalars.push_back(mesh.vertex_scalars[v]);
   }
-  for (const Eigen::Vector3i& t : mesh.triangles) {
-    if (sets.Find(static_cast<std::size_t>(t[0])) != root) continue;
+  out.triangles.reserve(triangles.size());
+  for (const Eigen::Vector3i& t : triangles) {
     out.triangles.emplace_back(remap[static_cast<std::size_t>(t[0])],
                                remap[static_cast<std::size_t>(t[1])],
                                remap[static_cast<std::size_t>(t[2])]);
   }
   return out;
 }
-
-}  // namespace
 
 TriangleMesh LargestConnectedComponent(const TriangleMesh& mesh) {
   mesh.CheckConsistent();
