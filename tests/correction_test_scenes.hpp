@@ -79,14 +79,17 @@ inline DepthErrorModel TrueModel() {
   return m;
 }
 
-// A surface sample of the sphere at `point` (camera at the origin), measured with `model`.
+// A surface sample of the sphere at `point` (camera at the origin), measured with `model`. Its AB
+// is 130 everywhere, or with `lambertian_ab` that of an albedo-0.6 surface under an illuminator of
+// 65 counts m^2 (docs/tof_physics.md): 39 cos(theta) / d^2, d in m.
 inline SurfaceSample SphereSample(const Eigen::Vector3d& point, const Eigen::Vector3d& centre,
-                                  const DepthErrorModel& model) {
+                                  const DepthErrorModel& model, bool lambertian_ab = false) {
   const double d = point.norm();
   const Eigen::Vector3d ray = point / d;
   const double theta = std::acos(std::abs(ray.dot((point - centre).normalized())));
-  return {ray.cast<float>(), static_cast<float>(d + model.BiasMm(d, theta)),
-          static_cast<float>(theta), 130.0f};
+  const double ab = lambertian_ab ? 39.0 * std::cos(theta) / (d * d * 1e-6) : 130.0;
+  return {ray.cast<float>(), static_cast<float>(d + model.BiasMm(d, theta, ab)),
+          static_cast<float>(theta), static_cast<float>(ab)};
 }
 
 // Point of the sphere at polar angle `a` from the direction `axis` towards the camera, turned by
@@ -102,7 +105,7 @@ inline Eigen::Vector3d SpherePoint(const Eigen::Vector3d& centre, const Eigen::V
 // stickers, exact on the sphere and unbiased) at various angles from the view axis.
 inline IdentificationFrame SphereFrame(int index, const Eigen::Vector3d& centre,
                                        const DepthErrorModel& model, int ring_points = 8,
-                                       double ring_step_mm = 4.3) {
+                                       double ring_step_mm = 4.3, bool lambertian_ab = false) {
   IdentificationFrame frame;
   frame.index = index;
   const Eigen::Vector3d toward = -centre.normalized();
@@ -123,7 +126,7 @@ inline IdentificationFrame SphereFrame(int index, const Eigen::Vector3d& centre,
         patch.neighbours.push_back(
             SphereSample(SpherePoint(centre, axis.normalized(), r / kHeadRadiusMm,
                                      (i + 0.3 * r) * 2 * kPi / ring_points),
-                         centre, model));
+                         centre, model, lambertian_ab));
       }
     }
     // Local frame as PrepareIdentificationFrame sets it (origin, z towards the camera).
@@ -137,19 +140,21 @@ inline IdentificationFrame SphereFrame(int index, const Eigen::Vector3d& centre,
     frame.markers.push_back(std::move(patch));
   }
   for (int i = 0; i < 60; ++i) {  // head samples for the ICP: a cap facing the camera
-    frame.head.push_back(SphereSample(
-        SpherePoint(centre, toward, 0.9 * std::sqrt((i % 12) / 12.0), i * 0.7), centre, model));
+    frame.head.push_back(
+        SphereSample(SpherePoint(centre, toward, 0.9 * std::sqrt((i % 12) / 12.0), i * 0.7), centre,
+                     model, lambertian_ab));
   }
   return frame;
 }
 
-inline std::vector<IdentificationFrame> SphereFrames(const DepthErrorModel& model) {
+inline std::vector<IdentificationFrame> SphereFrames(const DepthErrorModel& model,
+                                                     bool lambertian_ab = false) {
   std::vector<IdentificationFrame> frames;
   const double ranges[] = {380.0, 520.0, 660.0, 800.0};
   for (int i = 0; i < 4; ++i) {
     const Eigen::Vector3d centre = Eigen::AngleAxisd(0.2 * i - 0.3, Eigen::Vector3d::UnitX()) *
                                    Eigen::Vector3d(20.0 * i - 30.0, 0.0, ranges[i]);
-    frames.push_back(SphereFrame(i, centre, model));
+    frames.push_back(SphereFrame(i, centre, model, 8, 4.3, lambertian_ab));
   }
   return frames;
 }

@@ -58,7 +58,8 @@ int RunIdentify(int argc, char** argv) {
   int max_frames = 300, folds = 0, min_reference_markers = 6;
   std::optional<double> iso_hu;
   std::string angle_term = "theta";
-  bool intensity = false, quiet = false, json = false;
+  std::string form = "intensity";
+  bool quiet = false, json = false;
   IdentificationSampling sampling;
   IdentificationOptions options;
   app.add_option("recording", recording_path, "AHAT recording (hl2ss .bin or StreamRecorder)")
@@ -91,9 +92,13 @@ int RunIdentify(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--model", angle_term, "angle term: theta (paper), theta2, 1-cos");
   std::vector<double> start_values;
-  app.add_option("--start", start_values, "start values C1 C2 C3 [C4] (unset: all 0)")
+  app.add_option("--start", start_values,
+                 "start values C1 C2 C3 [C4] (unset: all 0; C2 must be 0 in the intensity form)")
       ->expected(3, 4);
-  app.add_flag("--intensity", intensity, "add the AB term C4 ln(AB_ref / AB)");
+  app.add_option("--form", form,
+                 "terms: intensity = C1 + C3 g + C4 ln(AB_ref / AB) (default, docs/correction.md "
+                 "2.1), paper = C1 + C2 d + C3 g (Eq. 3), paper+intensity = all four")
+      ->check(CLI::IsMember({"intensity", "paper", "paper+intensity"}));
   app.add_option("--cross-validate", folds, "compare the model variants on K held-out blocks");
   app.add_option("--roi-radius-mm", sampling.segmentation.roi_radius_mm,
                  "head ROI around the markers' centroid [mm]");
@@ -129,10 +134,15 @@ int RunIdentify(int argc, char** argv) {
   if (!frf_path.empty()) frf = ReadMarkerRangeJson(frf_path).model;
   DepthErrorModel start;
   start.angle_term = ParseAngleTerm(angle_term);
-  start.use_intensity = intensity;
+  start.use_intensity = form != "paper";
+  start.use_range_term = form != "intensity";
   if (!start_values.empty()) {
-    start_values.resize(intensity ? 4 : 3, 0.0);
-    SetModelParameters(start, start_values);
+    start_values.resize(4, 0.0);
+    start.c1_mm = start_values[0];
+    start.c2 = start_values[1];
+    start.c3_mm = start_values[2];
+    start.c4_mm = start_values[3];
+    start.Check();  // std::invalid_argument (a C2 in the intensity form): the CLI's error exit
   }
 
   std::optional<SurfaceIndex> skin;

@@ -51,9 +51,11 @@ py::dict FitReportDict(const DepthErrorModel& model) {
 }
 
 DepthErrorModel MakeModel(double c1_mm, double c2, double c3_mm, double c4_mm,
-                          const std::string& angle_term, bool use_intensity, double ab_reference) {
+                          const std::string& angle_term, bool use_intensity, double ab_reference,
+                          bool use_range_term) {
   DepthErrorModel model{.angle_term = ParseAngleTerm(angle_term),
                         .use_intensity = use_intensity,
+                        .use_range_term = use_range_term,
                         .c1_mm = c1_mm,
                         .c2 = c2,
                         .c3_mm = c3_mm,
@@ -69,12 +71,15 @@ void DefineDepthModel(py::module_& m) {
                               "ln(AB_ref / AB)] (Eq. 3) and its inverse (Eq. 4)")
       .def(py::init(&MakeModel), py::arg("c1_mm") = 0.0, py::arg("c2") = 0.0,
            py::arg("c3_mm") = 0.0, py::arg("c4_mm") = 0.0, py::arg("angle_term") = "theta",
-           py::arg("use_intensity") = false, py::arg("ab_reference") = 130.0)
+           py::arg("use_intensity") = false, py::arg("ab_reference") = 130.0,
+           py::arg("use_range_term") = true)
       .def_readwrite("c1_mm", &DepthErrorModel::c1_mm)
       .def_readwrite("c2", &DepthErrorModel::c2)
       .def_readwrite("c3_mm", &DepthErrorModel::c3_mm)
       .def_readwrite("c4_mm", &DepthErrorModel::c4_mm)
       .def_readwrite("use_intensity", &DepthErrorModel::use_intensity)
+      .def_readwrite("use_range_term", &DepthErrorModel::use_range_term,
+                     "False: C2 held at 0 (the intensity form, tofnav's default)")
       .def_readwrite("ab_reference", &DepthErrorModel::ab_reference)
       .def_readwrite("multipath", &DepthErrorModel::multipath,
                      "MultipathCorrectionOptions applied before Eq. (4) (off unless identified so)")
@@ -83,7 +88,8 @@ void DefineDepthModel(py::module_& m) {
           [](DepthErrorModel& d, const std::string& name) { d.angle_term = ParseAngleTerm(name); },
           "'theta' (paper), 'theta2' or '1-cos'")
       .def_property_readonly("name", &DepthErrorModel::Name)
-      .def_property_readonly("parameters", &ModelParameters, "[C1, C2, C3(, C4)]")
+      .def_property_readonly("parameters", &ModelParameters,
+                             "the free parameters: [C1(, C2), C3(, C4)]")
       .def_property_readonly("report", &FitReportDict,
                              "the identification's fit report as a dict (empty when not fitted)")
       .def("bias_mm", py::vectorize(&DepthErrorModel::BiasMm), py::arg("true_range_mm"),

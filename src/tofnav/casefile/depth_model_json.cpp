@@ -257,6 +257,10 @@ DepthModelFile DecodeDepthModelJson(std::string_view text, const Path& path) {
   const Json& intensity = Member(m, "use_intensity", path, "model");
   if (!intensity.is_boolean()) throw IoError(path, std::nullopt, "model.use_intensity: boolean");
   model.use_intensity = intensity.get<bool>();
+  if (const auto it = m.find("use_range_term"); it != m.end()) {  // absent: written before it
+    if (!it->is_boolean()) throw IoError(path, std::nullopt, "model.use_range_term: boolean");
+    model.use_range_term = it->get<bool>();
+  }
   const Json& c = Member(m, "coefficients", path, "model");
   model.c1_mm = Number(Member(c, "c1_mm", path, "model.coefficients"), path, "c1_mm");
   model.c2 = Number(Member(c, "c2", path, "model.coefficients"), path, "c2");
@@ -287,6 +291,7 @@ std::string EncodeDepthModelJson(const DepthModelFile& file, const Json* options
       {"equation", "measured - true range = C1 + C2 d + C3 g(theta) + C4 ln(AB_ref / AB)"},
       {"angle_term", AngleTermName(m.angle_term)},
       {"use_intensity", m.use_intensity},
+      {"use_range_term", m.use_range_term},
       {"coefficients",
        {{"c1_mm", m.c1_mm},
         {"c2", m.c2},

@@ -80,6 +80,26 @@ TEST(DepthModelJson, AFileWithoutMultipathCorrectsWithoutIt) {
   EXPECT_FALSE(DecodeDepthModelJson(text).model.multipath.enabled);
 }
 
+TEST(DepthModelJson, TheIntensityFormRoundTripsAndAnOlderFileHasTheRangeTerm) {
+  DepthModelFile in = Example();
+  in.model.use_range_term = false;
+  in.model.c2 = 0.0;
+  std::string text = EncodeDepthModelJson(in);
+  const DepthModelFile out = DecodeDepthModelJson(text);
+  EXPECT_FALSE(out.model.use_range_term);
+  EXPECT_EQ(out.model.Name(), "intensity-1-cos");
+  // A C2 in a file that says it has no range term is a contradiction, not a value to drop.
+  const std::string with_c2 =
+      std::string(text).replace(text.find("\"c2\": 0.0"), 10, "\"c2\": 0.5");
+  EXPECT_THROW(DecodeDepthModelJson(with_c2), IoError);
+  // Files written before the member existed fitted Eq. (3) with its C2.
+  const std::string member = "\"use_range_term\": false,";
+  const auto at = text.find(member);
+  ASSERT_NE(at, std::string::npos);
+  text.erase(at, member.size());
+  EXPECT_TRUE(DecodeDepthModelJson(text).model.use_range_term);
+}
+
 TEST(DepthModelJson, MalformedInputThrowsIoErrorNamingTheProblem) {
   const std::string good = EncodeDepthModelJson(Example());
   auto fails_with = [](const std::string& text, const std::string& needle) {

@@ -22,6 +22,7 @@ std::vector<DepthErrorModel> DefaultModelCandidates() {
   out[1].angle_term = AngleTerm::kThetaSquared;
   out[2].angle_term = AngleTerm::kOneMinusCos;
   out[3].use_intensity = true;
+  out.push_back(IntensityFormModel());
   return out;
 }
 

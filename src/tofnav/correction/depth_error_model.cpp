@@ -38,9 +38,9 @@ double DepthErrorModel::CorrectRangeMm(double measured_range_mm, double theta_ra
 }
 
 std::string DepthErrorModel::Name() const {
-  std::string name = "linear-" + std::string(AngleTermName(angle_term));
-  if (use_intensity) name += "+ab";
-  return name;
+  const std::string angle(AngleTermName(angle_term));
+  if (!use_range_term) return (use_intensity ? "intensity-" : "offset-") + angle;
+  return "linear-" + angle + (use_intensity ? "+ab" : "");
 }
 
 void DepthErrorModel::Check() const {
@@ -49,26 +49,44 @@ void DepthErrorModel::Check() const {
     throw std::invalid_argument("DepthErrorModel: coefficients must be finite");
   }
   if (c2 <= -1.0) throw std::invalid_argument("DepthErrorModel: c2 must be > -1");
+  if (!use_range_term && c2 != 0.0) {
+    throw std::invalid_argument("DepthErrorModel: c2 must be 0 without the range term");
+  }
   if (!(ab_reference > 0.0) || !std::isfinite(ab_reference)) {
     throw std::invalid_argument("DepthErrorModel: ab_reference must be > 0");
   }
 }
 
+DepthErrorModel IntensityFormModel() {
+  DepthErrorModel model;
+  model.use_intensity = true;
+  model.use_range_term = false;
+  return model;
+}
+
+std::vector<double> FreeParameterValues(const DepthErrorModel& model,
+                                        const std::array<double, 4>& per_coefficient) {
+  std::vector<double> out = {per_coefficient[0]};
+  if (model.use_range_term) out.push_back(per_coefficient[1]);
+  out.push_back(per_coefficient[2]);
+  if (model.use_intensity) out.push_back(per_coefficient[3]);
+  return out;
+}
+
 std::vector<double> ModelParameters(const DepthErrorModel& model) {
-  std::vector<double> p = {model.c1_mm, model.c2, model.c3_mm};
-  if (model.use_intensity) p.push_back(model.c4_mm);
-  return p;
+  return FreeParameterValues(model, {model.c1_mm, model.c2, model.c3_mm, model.c4_mm});
 }
 
 void SetModelParameters(DepthErrorModel& model, const std::vector<double>& parameters) {
-  const std::size_t expected = model.use_intensity ? 4 : 3;
+  const std::size_t expected = 2 + (model.use_range_term ? 1 : 0) + (model.use_intensity ? 1 : 0);
   if (parameters.size() != expected) {
     throw std::invalid_argument("SetModelParameters: wrong parameter count");
   }
-  model.c1_mm = parameters[0];
-  model.c2 = parameters[1];
-  model.c3_mm = parameters[2];
-  model.c4_mm = model.use_intensity ? parameters[3] : 0.0;
+  std::size_t i = 0;
+  model.c1_mm = parameters[i++];
+  model.c2 = model.use_range_term ? parameters[i++] : 0.0;
+  model.c3_mm = parameters[i++];
+  model.c4_mm = model.use_intensity ? parameters[i] : 0.0;
 }
 
 std::string_view AngleTermName(AngleTerm term) {

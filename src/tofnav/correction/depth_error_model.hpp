@@ -49,7 +49,8 @@ struct DepthModelFitReport {
   double initial_cost = 0.0;  // Eq. (7) at the start [mm^2]
   double final_cost = 0.0;    // Eq. (7) at the solution [mm^2]
   double seconds = 0.0;
-  /// Standard errors from the Gauss-Newton covariance (same order as the coefficients).
+  /// Standard errors from the Gauss-Newton covariance, of the free parameters in order
+  /// (C1[, C2], C3[, C4]: ModelParameters).
   std::vector<double> standard_errors;
   /// Cross-validation of the variants: name -> held-out cost [mm^2] (empty when not run).
   std::vector<std::pair<std::string, double>> cross_validation;
@@ -59,10 +60,13 @@ struct DepthModelFitReport {
 /// delta_d = C1 + C2 d + C3 g(theta) + C4 ln(AB_ref / AB): measured minus true range [mm] of a
 /// surface pixel at true range d [mm], incidence theta [rad] and active brightness AB [counts]
 /// (Eq. 3 with the angle term g = theta and C4 = 0). The intensity term (C4, off unless
-/// use_intensity) is 0 at AB = ab_reference.
+/// use_intensity) is 0 at AB = ab_reference. Without the range term (use_range_term false) C2 is
+/// held at 0: with the intensity term on, the range enters through AB ~ cos(theta) / d^2, and C2 d
+/// and C4 ln(1 / AB) are nearly collinear over 300-700 mm (docs/correction.md 2.1).
 struct DepthErrorModel {
   AngleTerm angle_term = AngleTerm::kTheta;
   bool use_intensity = false;
+  bool use_range_term = true;
   double c1_mm = 0.0;
   double c2 = 0.0;              // dimensionless (mm per mm)
   double c3_mm = 0.0;           // mm per unit of g(theta) (mm/rad for kTheta)
@@ -82,15 +86,25 @@ struct DepthErrorModel {
   double BiasMm(double true_range_mm, double theta_rad, double ab = 0.0) const;
   /// Eq. (4): true range from a measured one, d = (d_m - C1 - C3 g - C4 h) / (1 + C2).
   double CorrectRangeMm(double measured_range_mm, double theta_rad, double ab = 0.0) const;
-  /// Model name for reports: "linear-theta", "linear-theta2", "linear-1-cos", plus "+ab".
+  /// Model name for reports: "linear-theta", "linear-theta2", "linear-1-cos", plus "+ab"; without
+  /// the range term "intensity-theta" (and so on) with the AB term, "offset-theta" without.
   std::string Name() const;
-  /// Throws std::invalid_argument on non-finite coefficients, C2 <= -1 or AB_ref <= 0.
+  /// Throws std::invalid_argument on non-finite coefficients, C2 <= -1, C2 != 0 without the range
+  /// term or AB_ref <= 0.
   void Check() const;
 };
 
-/// The parameters as a vector (C1, C2, C3[, C4]) and back; the size follows use_intensity.
+/// The form tofnav identifies by default: C1 + C3 theta + C4 ln(AB_ref / AB), C2 held at 0
+/// (docs/correction.md 2.1 gives the measurements that chose it over the paper's Eq. 3).
+DepthErrorModel IntensityFormModel();
+
+/// The free parameters as a vector, (C1[, C2], C3[, C4]) as use_range_term and use_intensity
+/// say, and back (a coefficient that is not free is set to 0).
 std::vector<double> ModelParameters(const DepthErrorModel& model);
 void SetModelParameters(DepthErrorModel& model, const std::vector<double>& parameters);
+/// Of four per-coefficient values (C1, C2, C3, C4: steps, bounds), those of the free parameters.
+std::vector<double> FreeParameterValues(const DepthErrorModel& model,
+                                        const std::array<double, 4>& per_coefficient);
 
 std::string_view AngleTermName(AngleTerm term);  // "theta", "theta2", "1-cos"
 /// Inverse of AngleTermName; throws std::invalid_argument on an unknown name.

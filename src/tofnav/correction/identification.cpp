@@ -249,8 +249,10 @@ Fit FitOnce(std::span<const IdentificationFrame> frames, const CorrectnessTarget
   const CorrectnessPlan plan = PlanCorrectness(frames, target, start, options);
   const std::vector<double> p0 = ModelParameters(start);
   const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(p0.data(), std::ssize(p0));
+  const std::vector<double>& d = options.difference_steps;
+  const std::vector<double> step_values = FreeParameterValues(start, {d[0], d[1], d[2], d[3]});
   const Eigen::VectorXd steps =
-      Eigen::Map<const Eigen::VectorXd>(options.difference_steps.data(), std::ssize(p0));
+      Eigen::Map<const Eigen::VectorXd>(step_values.data(), std::ssize(step_values));
   auto residuals = [&](const Eigen::VectorXd& x) {
     DepthErrorModel m = start;
     SetModelParameters(m, std::vector<double>(x.data(), x.data() + x.size()));

@@ -47,9 +47,9 @@ struct IdentificationOptions {
   /// Beyond the paper: when at least min_tool_pose_frames correctness frames have a reference-
   /// tool pose, Err_C places the skin once through the tool (JointCorrectnessDistances) and adds
   /// each frame's head samples' distances to the skin, weighted by this relative to its markers'
-  /// (docs/correction.md 2). 0 keeps the markers only.
+  /// (docs/correction.md 2; 1 since the intensity form, 2.1). 0 keeps the markers only.
   int min_tool_pose_frames = 3;
-  double head_surface_weight = 0.3;
+  double head_surface_weight = 1.0;
   /// Frames (evenly chosen among those with a tool pose) in the joint Err_C: one ICP for them
   /// all per evaluation, so more frames than max_correctness_frames cost little, and they
   /// average the tracking noise of each frame's pose.

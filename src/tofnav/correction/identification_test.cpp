@@ -39,6 +39,24 @@ TEST(IdentifyDepthModel, SmoothnessOnlyRecoversKnownCoefficients) {
   EXPECT_LT(fitted.report.final_cost, 1e-3 * fitted.report.initial_cost);
 }
 
+TEST(IdentifyDepthModel, TheIntensityFormRecoversItsCoefficientsWithC2HeldAtZero) {
+  constexpr double kRelTol = 0.03;  // noise-free: the cubic patch fit (as above), three terms
+  // The simulator's nylon in the intensity form: C1 9 mm, C3 2.7 mm/rad, C4 2 mm per ln unit.
+  DepthErrorModel truth = IntensityFormModel();
+  truth.c1_mm = 9.0;
+  truth.c3_mm = 2.7;
+  truth.c4_mm = 2.0;
+  const std::vector<IdentificationFrame> frames = SphereFrames(truth, /*lambertian_ab=*/true);
+  const DepthErrorModel fitted = IdentifyDepthModel(frames, nullptr, IntensityFormModel());
+  EXPECT_EQ(fitted.Name(), "intensity-theta");
+  EXPECT_EQ(fitted.c2, 0.0);
+  EXPECT_NEAR(fitted.c1_mm, 9.0, 9.0 * kRelTol);
+  EXPECT_NEAR(fitted.c3_mm, 2.7, 2.7 * kRelTol);
+  EXPECT_NEAR(fitted.c4_mm, 2.0, 2.0 * kRelTol);
+  EXPECT_EQ(fitted.report.standard_errors.size(), 3u);  // C1, C3, C4: C2 is not a parameter
+  EXPECT_LT(fitted.report.final_cost, 1e-3 * fitted.report.initial_cost);
+}
+
 TEST(IdentifyDepthModel, LeavesOutMarkersThatAreNotOnTheSkin) {
   constexpr double kRelTol = 0.02;  // as SmoothnessOnlyRecoversKnownCoefficients
   // A tool's marker on its plate: its surroundings carry no skin bias (frames made with the zero

@@ -87,9 +87,10 @@ void PrintDemoTables(const DemoJson& demo) {
     const DemoJson& s = st["depth"];
     const DemoJson& p = paper["depth"];
     if (s.contains("model")) {
-      std::printf("   model %s: C1 %.3f mm, C2 %.5f, C3 %.3f mm/rad\n",
+      std::printf("   model %s: C1 %.3f mm, C2 %.5f, C3 %.3f mm/rad, C4 %.3f mm\n",
                   s["model"]["name"].get<std::string>().c_str(), Number(s["model"], "C1_mm"),
-                  Number(s["model"], "C2"), Number(s["model"], "C3_mm_per_rad"));
+                  Number(s["model"], "C2"), Number(s["model"], "C3_mm_per_rad"),
+                  Number(s["model"], "C4_mm"));
     }
     std::printf("   %-22s %9s %8s %6s %8s %6s %9s\n", "object", "pixels", "before", "IQR", "after",
                 "IQR", "reduction");

@@ -27,7 +27,9 @@ namespace tofnav {
 struct IdentifyRecordingOptions {
   int max_frames = 300;          // frames used, evenly spread over the recording
   int cross_validate_folds = 0;  // >= 2: compare DefaultModelCandidates on held-out blocks
-  DepthErrorModel start;         // start values and variant (angle term, intensity)
+  /// Start values and variant (angle term, intensity, range term): the intensity form by
+  /// default (docs/correction.md 2.1); a default-constructed DepthErrorModel is the paper's Eq. 3.
+  DepthErrorModel start = IntensityFormModel();
   IdentificationSampling sampling;
   IdentificationOptions identification;
   /// Applied to each decoded frame before its preparation (e.g. to blank pixels); optional.

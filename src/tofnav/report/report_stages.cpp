@@ -51,11 +51,13 @@ std::string DepthSection(const Context& c) {
   if (const std::string reason = NotRunReason(stage); !reason.empty()) return NotRun(reason);
   const Json& paper = c.Paper("depth");
   const Json& model = Field(stage, "model");
-  std::string s = "<p>Model <b>" + EscapeXml(Text(model, "name")) +
-                  "</b>: C1 = " + Cell(Number(model, "C1_mm")) +
-                  " mm, C2 = " + Cell(Number(model, "C2")) +
-                  ", C3 = " + Cell(Number(model, "C3_mm_per_rad")) + " mm/rad, from " +
-                  Cell(Number(stage, "frames")) + " frames (Eq. 3).</p>\n";
+  std::string s =
+      "<p>Model <b>" + EscapeXml(Text(model, "name")) +
+      "</b>: C1 = " + Cell(Number(model, "C1_mm")) + " mm, C2 = " + Cell(Number(model, "C2")) +
+      ", C3 = " + Cell(Number(model, "C3_mm_per_rad")) +
+      " mm/rad, C4 = " + Cell(Number(model, "C4_mm")) + " mm, from " +
+      Cell(Number(stage, "frames")) +
+      " frames (Eq. 3; C4 ln(AB_ref / AB) in place of C2 d in the intensity form).</p>\n";
   std::vector<std::vector<std::string>> rows;
   if (Field(stage, "objects").is_array()) {
     for (const Json& object : Field(stage, "objects")) {
