@@ -2,11 +2,30 @@
 // f_rf fit (Eq. 1) and the retro-reflective marker range correction (Eq. 2).
 #include "tofnav/correction/marker_range_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "tofnav/core/require.hpp"
 
 namespace tofnav {
+
+double MarkerRangeModel::BiasMm(double range_mm) const {
+  const std::vector<double>& x = bias_mm.x;
+  if (x.size() < 2 || (range_mm >= x.front() && range_mm <= x.back())) {
+    return bias_mm.Evaluate(range_mm);
+  }
+  // The spline's end slope rests on its last few noisy samples (it was -0.045 mm/mm on one stage
+  // run, 1.4 mm off 30 mm beyond the last knot); a secant over the last 50 mm of the curve says
+  // where the curve was heading without following that noise.
+  constexpr double kEndSecantMm = 50.0;
+  const bool below = range_mm < x.front();
+  const double end = below ? x.front() : x.back();
+  const double inner = below ? std::min(x.front() + kEndSecantMm, x.back())
+                             : std::max(x.back() - kEndSecantMm, x.front());
+  const double at_end = bias_mm.Evaluate(end);
+  const double slope = (at_end - bias_mm.Evaluate(inner)) / (end - inner);
+  return at_end + slope * (range_mm - end);
+}
 
 MarkerRangeFitResult FitMarkerRangeModel(std::span<const MarkerRangeSample> samples,
                                          const SmoothingSplineOptions& options) {

@@ -18,7 +18,9 @@ namespace tofnav {
 struct MarkerRangeModel {
   CubicSpline bias_mm;       // x: measured surface range [mm]; value: f_rf [mm]
   double smoothing_p = 1.0;  // csaps p of the fit, with d in mm (a record; evaluation ignores it)
-  double BiasMm(double range_mm) const { return bias_mm.Evaluate(range_mm); }
+  /// f_rf at a measured range. Beyond the knots (the stage's calibrated range) it continues with
+  /// the chord slope over that range, not the spline's end slope (docs/tracking.md 4).
+  double BiasMm(double range_mm) const;
   bool empty() const { return bias_mm.x.empty(); }
   void Check() const { bias_mm.Check(); }
 };

@@ -38,6 +38,23 @@ TEST(FitMarkerRangeModel, RecoversEverySimulatorCurveWithinATenthOfAMillimetre) 
   }
 }
 
+TEST(MarkerRangeModel, BeyondTheKnotsFollowsTheLastFiftyMillimetresNotTheLastInterval) {
+  // A curve rising 0.025 mm/mm whose last interval (one noisy sample) turns down: its end tangent
+  // says -0.05 mm/mm, which 30 mm beyond the last knot would be 1.5 mm off (a 740 mm marker of a
+  // stage run that ended at 709 mm, docs/tracking.md 4).
+  MarkerRangeModel model;
+  model.bias_mm.x = {300.0, 400.0, 500.0, 600.0, 650.0, 700.0, 709.0};
+  model.bias_mm.value = {-1.0, 1.5, 4.0, 6.5, 7.75, 9.0, 8.55};
+  model.bias_mm.second_derivative.assign(7, 0.0);  // piecewise linear: the slopes read exactly
+  constexpr double kExact = 1e-9;
+  EXPECT_NEAR(model.BiasMm(709.0), 8.55, kExact);  // inside: the spline itself
+  EXPECT_NEAR(model.BiasMm(500.0), 4.0, kExact);
+  const double secant_above = (8.55 - model.bias_mm.Evaluate(659.0)) / 50.0;
+  EXPECT_NEAR(model.BiasMm(739.0), 8.55 + 30.0 * secant_above, kExact);
+  EXPECT_GT(secant_above, 0.0);  // where the curve was heading, unlike the last interval
+  EXPECT_NEAR(model.BiasMm(280.0), -1.0 - 20.0 * 0.025, kExact);  // below: the first 50 mm
+}
+
 TEST(CorrectMarkerRange, AppliesEquationTwoToRangesPointsAndDetections) {
   MarkerRangeModel model;
   model.bias_mm = {{300.0, 700.0}, {0.0, 4.0}, {0.0, 0.0}};  // 0.01 mm per mm
