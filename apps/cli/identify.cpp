@@ -7,6 +7,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 
 #include "commands.hpp"
 #include "config_json.hpp"
@@ -142,7 +143,11 @@ int RunIdentify(int argc, char** argv) {
     start.c2 = start_values[1];
     start.c3_mm = start_values[2];
     start.c4_mm = start_values[3];
-    start.Check();  // std::invalid_argument (a C2 in the intensity form): the CLI's error exit
+    if (!start.use_range_term && start.c2 != 0.0) {
+      throw std::invalid_argument(
+          "--start: C2 must be 0 in the intensity form (--form paper fits C2)");
+    }
+    start.Check();
   }
 
   std::optional<SurfaceIndex> skin;
