@@ -78,7 +78,7 @@ std::vector<double> ModelParameters(const DepthErrorModel& model) {
 }
 
 void SetModelParameters(DepthErrorModel& model, const std::vector<double>& parameters) {
-  const std::size_t expected = 2 + (model.use_range_term ? 1 : 0) + (model.use_intensity ? 1 : 0);
+  const std::size_t expected = FreeParameterValues(model, {}).size();
   if (parameters.size() != expected) {
     throw std::invalid_argument("SetModelParameters: wrong parameter count");
   }

@@ -22,7 +22,7 @@ double MarkerRangeModel::BiasMm(double range_mm) const {
   const double end = below ? x.front() : x.back();
   const double inner = below ? std::min(x.front() + kEndSecantMm, x.back())
                              : std::max(x.back() - kEndSecantMm, x.front());
-  const double at_end = bias_mm.Evaluate(end);
+  const double at_end = below ? bias_mm.value.front() : bias_mm.value.back();  // the knot's value
   const double slope = (at_end - bias_mm.Evaluate(inner)) / (end - inner);
   return at_end + slope * (range_mm - end);
 }

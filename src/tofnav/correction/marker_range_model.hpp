@@ -19,7 +19,8 @@ struct MarkerRangeModel {
   CubicSpline bias_mm;       // x: measured surface range [mm]; value: f_rf [mm]
   double smoothing_p = 1.0;  // csaps p of the fit, with d in mm (a record; evaluation ignores it)
   /// f_rf at a measured range. Beyond the knots (the stage's calibrated range) it continues with
-  /// the chord slope over that range, not the spline's end slope (docs/tracking.md 4).
+  /// the secant over the curve's last (first) 50 mm, not the spline's end tangent
+  /// (docs/tracking.md 4).
   double BiasMm(double range_mm) const;
   bool empty() const { return bias_mm.x.empty(); }
   void Check() const { bias_mm.Check(); }
