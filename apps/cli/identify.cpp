@@ -100,6 +100,11 @@ int RunIdentify(int argc, char** argv) {
                  "terms: intensity = C1 + C3 g + C4 ln(AB_ref / AB) (default, docs/correction.md "
                  "2.1), paper = C1 + C2 d + C3 g (Eq. 3), paper+intensity = all four")
       ->check(CLI::IsMember({"intensity", "paper", "paper+intensity"}));
+  std::vector<double> cyclic_values;
+  app.add_option("--cyclic-error", cyclic_values,
+                 "the sensor's cyclic range error A [mm] P [mm] phi [rad], held fixed "
+                 "(docs/correction.md 2.2)")
+      ->expected(3);
   app.add_option("--cross-validate", folds, "compare the model variants on K held-out blocks");
   app.add_option("--roi-radius-mm", sampling.segmentation.roi_radius_mm,
                  "head ROI around the markers' centroid [mm]");
@@ -123,6 +128,12 @@ int RunIdentify(int argc, char** argv) {
   app.add_option(
          "--ab-scale", sampling.multipath.ab_scale,
          "the illuminator's AB of an albedo-1 surface facing the camera at 1 m [counts m^2]")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--multipath-source-stride-px", sampling.multipath.source_stride_px,
+                 "multipath: one emitting patch per block of this many pixels")
+      ->check(CLI::PositiveNumber);
+  app.add_option("--multipath-receiver-stride-px", sampling.multipath.receiver_stride_px,
+                 "multipath: indirect light computed every this many pixels, interpolated between")
       ->check(CLI::PositiveNumber);
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the result as JSON");
@@ -148,6 +159,10 @@ int RunIdentify(int argc, char** argv) {
           "--start: C2 must be 0 in the intensity form (--form paper fits C2)");
     }
     start.Check();
+  }
+  if (!cyclic_values.empty()) {
+    start.cyclic = {cyclic_values[0], cyclic_values[1], cyclic_values[2]};
+    start.cyclic.Check();
   }
 
   std::optional<SurfaceIndex> skin;

@@ -82,6 +82,11 @@ int RunReconstruct(int argc, char** argv) {
   AddEnumOption(app, "--weighting", options.tsdf.weighting, weightings, "constant or incidence");
   app.add_option("--ab-weight-reference", options.ab_weight_reference,
                  "weigh pixels by min(1, (AB / this)^2); 0 = off");
+  app.add_option(
+         "--multipath-weight-ratio", options.multipath_weight_ratio,
+         "with a depth model that removes multipath: weigh pixels by 1 / (1 + (q / this)^2), "
+         "q its predicted indirect-to-direct ratio; 0 = off")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--min-weight", options.mesh.min_weight,
                  "mesh only cells whose corners weigh more than this");
   app.add_option("--min-observed-frames", options.min_observed_frames,

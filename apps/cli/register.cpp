@@ -145,10 +145,19 @@ int RunRegister(int argc, char** argv) {
                  "an alternative is distinct when its cost exceeds the best's by more than this "
                  "many standard errors, z sqrt(2 / N_eff) (docs/registration.md)");
   app.add_option("--max-fre", max_fre_mm, "paired points: refuse above this FRE [mm]");
+  app.add_option("--sample-spacing-mm", options.sample_spacing_mm,
+                 "voxel subsampling of the reconstruction for the fine ICP [mm]")
+      ->check(CLI::PositiveNumber);
+  std::string loss = "huber";
+  app.add_option("--loss", loss, "ICP robust loss: huber, tukey or squared")
+      ->check(CLI::IsMember({"huber", "tukey", "squared"}));
   app.add_flag("--force", force, "write the transform even when refused (status in the JSON)");
   app.add_flag("-q,--quiet", quiet, "no progress bar, no report");
   app.add_flag("--json", json, "print the report as one JSON object");
   TOFNAV_PARSE(app, argc, argv);
+  options.icp.loss = loss == "tukey"     ? RobustLoss::kTukey
+                     : loss == "squared" ? RobustLoss::kSquared
+                                         : RobustLoss::kHuber;
 
   const bool surfaces = !reconstruction_path.empty() && !skin_path.empty();
   if (!surfaces && fiducials.empty()) {

@@ -268,6 +268,13 @@ DepthModelFile DecodeDepthModelJson(std::string_view text, const Path& path) {
   model.c4_mm = Number(Member(c, "c4_mm", path, "model.coefficients"), path, "c4_mm");
   model.ab_reference =
       Number(Member(c, "ab_reference", path, "model.coefficients"), path, "ab_reference");
+  if (const auto it = m.find("cyclic_error"); it != m.end() && !it->is_null()) {
+    const std::string at = "model.cyclic_error";  // absent in files written before it: off
+    model.cyclic.amplitude_mm =
+        Number(Member(*it, "amplitude_mm", path, at), path, at + ".amplitude_mm");
+    model.cyclic.period_mm = Number(Member(*it, "period_mm", path, at), path, at + ".period_mm");
+    model.cyclic.phase_rad = Number(Member(*it, "phase_rad", path, at), path, at + ".phase_rad");
+  }
   try {
     model.Check();
   } catch (const std::invalid_argument& e) {
@@ -306,6 +313,11 @@ std::string EncodeDepthModelJson(const DepthModelFile& file, const Json* options
         {"c4_mm", "mm per unit of ln(AB_ref / AB)"},
         {"ab_reference", "AB counts"}}}};
   json["model"]["multipath"] = MultipathToJson(m.multipath);
+  json["model"]["cyclic_error"] = {
+      {"amplitude_mm", m.cyclic.amplitude_mm},
+      {"period_mm", m.cyclic.period_mm},
+      {"phase_rad", m.cyclic.phase_rad},
+      {"equation", "w(d) = A sin(2 pi d / P + phi), removed from the measured range first"}};
   json["marker_range"] = file.marker_range ? RangeToJson(*file.marker_range) : Json();
   json["fit"] = ReportToJson(m.report);
   if (options != nullptr) json["options"] = *options;

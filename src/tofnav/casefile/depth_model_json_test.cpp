@@ -100,6 +100,24 @@ TEST(DepthModelJson, TheIntensityFormRoundTripsAndAnOlderFileHasTheRangeTerm) {
   EXPECT_TRUE(DecodeDepthModelJson(text).model.use_range_term);
 }
 
+TEST(DepthModelJson, TheCyclicErrorRoundTripsAndAnOlderFileHasNone) {
+  DepthModelFile in = Example();
+  in.model.cyclic = {.amplitude_mm = 0.9, .period_mm = 351.7, .phase_rad = -0.25};
+  std::string text = EncodeDepthModelJson(in);
+  const DepthModelFile out = DecodeDepthModelJson(text);
+  EXPECT_EQ(out.model.cyclic.amplitude_mm, 0.9);
+  EXPECT_EQ(out.model.cyclic.period_mm, 351.7);
+  EXPECT_EQ(out.model.cyclic.phase_rad, -0.25);
+  // A negative amplitude is refused, naming the model.
+  std::string negative = text;
+  negative.replace(negative.find("\"amplitude_mm\": 0.9"), 19, "\"amplitude_mm\": -1");
+  EXPECT_THROW(DecodeDepthModelJson(negative), IoError);
+  // Files written before the member existed correct without a cyclic term.
+  nlohmann::json older = nlohmann::json::parse(text);
+  older["model"].erase("cyclic_error");
+  EXPECT_FALSE(DecodeDepthModelJson(older.dump()).model.cyclic.enabled());
+}
+
 TEST(DepthModelJson, MalformedInputThrowsIoErrorNamingTheProblem) {
   const std::string good = EncodeDepthModelJson(Example());
   auto fails_with = [](const std::string& text, const std::string& needle) {

@@ -31,6 +31,9 @@ struct CorrectedFrame {
   Image<float> range_mm;  // corrected radial range [mm], 0 = dropped or invalid
   FrameSegmentation segmentation;
   RangeNormals normals;  // of the measured range
+  /// The multipath removal's indirect-to-direct ratio |q| per pixel; empty when the model
+  /// removes no multipath.
+  Image<float> indirect_ratio;
 };
 
 /// The range with marker and transitional pixels set to 0: normals of the surface alone (a marker
@@ -43,7 +46,7 @@ Image<float> SurfaceRange(const Image<float>& range_mm, const FrameSegmentation&
 CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
                             const DepthErrorModel& model, const CorrectRangeOptions& options = {});
 
-/// CorrectFrame's range image only (the reconstruction's entry point).
+/// CorrectFrame's range image only.
 Image<float> CorrectRangeImage(const AhatFrame& frame, const AhatCamera& camera,
                                const DepthErrorModel& model,
                                const CorrectRangeOptions& options = {});

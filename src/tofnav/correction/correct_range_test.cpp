@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 #include "correction_test_scenes.hpp"
 
@@ -128,6 +129,24 @@ TEST(DepthErrorModel, CorrectInvertsBias) {
     EXPECT_NEAR(model.CorrectRangeMm(d + model.BiasMm(d, theta, ab), theta, ab), d, kTolMm);
     EXPECT_EQ(ParseAngleTerm(AngleTermName(term)), term);
   }
+  // The sensor's cyclic error is removed before the other terms: the fixed point that inverts
+  // d_m = d' + w(d') contracts by |w'| <= 2 pi A / P = 0.018 a step (1 mm at 352 mm).
+  constexpr double kCyclicTolMm = 1e-5;
+  DepthErrorModel cyclic = KnownModel();
+  cyclic.cyclic = {.amplitude_mm = 1.0, .period_mm = 351.7, .phase_rad = 0.4};
+  for (const double d : {300.0, 432.0, 611.0}) {
+    const double bias = cyclic.BiasMm(d, 0.5, 0.0);
+    EXPECT_NEAR(
+        bias - KnownModel().BiasMm(d, 0.5, 0.0),
+        std::sin(2.0 * std::numbers::pi * (d + KnownModel().BiasMm(d, 0.5, 0.0)) / 351.7 + 0.4),
+        1e-12);
+    EXPECT_NEAR(cyclic.CorrectRangeMm(d + bias, 0.5, 0.0), d, kCyclicTolMm);
+  }
+  DepthErrorModel bad_cyclic = KnownModel();
+  bad_cyclic.cyclic = {.amplitude_mm = 1.0, .period_mm = 0.0, .phase_rad = 0.0};
+  EXPECT_THROW(bad_cyclic.Check(), std::invalid_argument);
+  bad_cyclic.cyclic = {.amplitude_mm = -1.0, .period_mm = 300.0, .phase_rad = 0.0};
+  EXPECT_THROW(bad_cyclic.Check(), std::invalid_argument);
   DepthErrorModel bad;
   bad.c2 = -1.0;
   EXPECT_THROW(bad.Check(), std::invalid_argument);

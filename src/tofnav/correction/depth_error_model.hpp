@@ -57,6 +57,23 @@ struct DepthModelFitReport {
   std::vector<FrameResidual> frames;
 };
 
+/// The sensor's cyclic (wiggling) range error, w(d) = A sin(2 pi d / P + phi) at the phase range d
+/// [mm]: harmonics of the modulation alias into a period of L / N (docs/tof_physics.md 5.4). It
+/// belongs to the sensor, not the material, so it is measured once per device, from the marker
+/// stage's f_rf (EstimateCyclicError), and held fixed in the identification. Off when A = 0.
+struct CyclicRangeError {
+  double amplitude_mm = 0.0;
+  double period_mm = 0.0;
+  double phase_rad = 0.0;
+  bool enabled() const { return amplitude_mm != 0.0; }
+  /// w(d) at the range the sensor measured before the cyclic error was added.
+  double Mm(double phase_range_mm) const;
+  /// The phase range d from a measured range d_m = d + w(d) (fixed point; |w'| << 1).
+  double RemoveMm(double measured_range_mm) const;
+  /// Throws std::invalid_argument on a non-finite value, A < 0 or, when A > 0, P <= 0.
+  void Check() const;
+};
+
 /// delta_d = C1 + C2 d + C3 g(theta) + C4 ln(AB_ref / AB): measured minus true range [mm] of a
 /// surface pixel at true range d [mm], incidence theta [rad] and active brightness AB [counts]
 /// (Eq. 3 with the angle term g = theta and C4 = 0). The intensity term (C4, off unless
@@ -76,15 +93,19 @@ struct DepthErrorModel {
   /// fitted C1..C4): the model holds only for ranges prepared the same way. Off for a model that
   /// does not say (files written before it existed).
   MultipathCorrectionOptions multipath = {.enabled = false};
+  /// Removed from the measured range first, before the terms above (not fitted by the
+  /// identification: it is the sensor's). Off for files written before it existed.
+  CyclicRangeError cyclic;
   DepthModelFitReport report;
 
   /// g(theta) of the chosen angle term.
   double AngleFeature(double theta_rad) const;
   /// ln(ab_reference / AB) when use_intensity (AB clamped to >= 1), else 0.
   double IntensityFeature(double ab) const;
-  /// delta_d at true range d (Eq. 3).
+  /// delta_d at true range d (Eq. 3), plus the cyclic error at the range it produced.
   double BiasMm(double true_range_mm, double theta_rad, double ab = 0.0) const;
-  /// Eq. (4): true range from a measured one, d = (d_m - C1 - C3 g - C4 h) / (1 + C2).
+  /// Eq. (4): true range from a measured one, d = (d'_m - C1 - C3 g - C4 h) / (1 + C2), where d'_m
+  /// is d_m with the cyclic error removed.
   double CorrectRangeMm(double measured_range_mm, double theta_rad, double ab = 0.0) const;
   /// Model name for reports: "linear-theta", "linear-theta2", "linear-1-cos", plus "+ab"; without
   /// the range term "intensity-theta" (and so on) with the AB term, "offset-theta" without.

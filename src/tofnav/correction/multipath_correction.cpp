@@ -218,6 +218,7 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
   // (d^2 / cos theta) is the indirect-to-direct phasor ratio q, relative to the direct phase
   // 2 k d; the measured phase is that of (1 + q), so the direct range is d - arg(1 + q) / (2 k).
   Image<float> out(w, h);
+  if (hints.indirect_ratio) *hints.indirect_ratio = Image<float>(w, h, 0.0f);
   Image<float> next_ab = direct_ab;
   std::vector<std::int64_t> corrected(static_cast<std::size_t>(h), 0),
       dropped(static_cast<std::size_t>(h), 0);
@@ -251,6 +252,7 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
       const Complex q = (wt[0] * irradiance(i0, j0) + wt[1] * irradiance(i1, j0) +
                          wt[2] * irradiance(i0, j1) + wt[3] * irradiance(i1, j1)) /
                         w_sum * (d * d / cos_theta) * std::polar(1.0, -k * d);
+      if (hints.indirect_ratio) (*hints.indirect_ratio)(u, v) = static_cast<float>(std::abs(q));
       if (std::abs(q) > options.max_indirect_ratio) {
         ++dropped[static_cast<std::size_t>(v)];
         continue;
@@ -323,7 +325,10 @@ Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint
     // next pass's emitters).
     MultipathHints pass_hints;
     if (pass == 0) pass_hints.normal = hints.normal;
-    if (pass + 1 == options.passes) pass_hints.wanted = hints.wanted;
+    if (pass + 1 == options.passes) {
+      pass_hints.wanted = hints.wanted;
+      pass_hints.indirect_ratio = hints.indirect_ratio;
+    }
     corrected = CorrectOnce(range_mm, corrected, ab, direct_ab, camera, options, normal_options,
                             pass_hints, stats);
   }

@@ -57,6 +57,9 @@ struct MultipathHints {
   /// around these pixels, and every other pixel keeps its measured range (0 where an earlier pass
   /// dropped it). Null: every pixel.
   const Image<std::uint8_t>* wanted = nullptr;
+  /// Out: when set, receives the last pass's indirect-to-direct ratio |q| per pixel (0 where none
+  /// was predicted). Its error grows with it: a weight for fusion (docs/correction.md 7).
+  Image<float>* indirect_ratio = nullptr;
 };
 
 /// The range image with the predicted one-bounce indirect light removed. `range_mm`: radial range

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -126,6 +127,43 @@ TEST(RemoveMultipath, LeavesAConvexCornerAndAFlatBoardAlone) {
     EXPECT_LT(std::abs(stats.mean_shift_mm), kToleranceMm) << board;
     EXPECT_EQ(stats.pixels_dropped, 0) << board;
   }
+}
+
+TEST(RemoveMultipath, ReportsTheIndirectRatioThatBoundsEachPixelsShift) {
+  // The ratio |q| is what reconstruct weighs pixels by: it must be large where the removal acts
+  // and bound what it removes, |shift| = |arg(1 + q)| / 2k <= asin |q| / 2k, and be small where
+  // surfaces exchange no light.
+  constexpr double kMinMeanRatio = 0.02;       // the corner's 7.5 mm shift needs a few per cent
+  constexpr double kRoundingMm = 1e-3;         // float ranges near 500 mm
+  constexpr double kFlatRatioFraction = 0.05;  // a flat board: a twentieth of the corner's
+  const MultipathCorrectionOptions options = OptionsFor(sim::IdealRenderOptions());
+  const double half_k = 2.0 * std::numbers::pi / (2.0 * options.alias_mm);  // 2k / 2
+  const auto mean_ratio = [&](const sim::Scene& scene) {
+    const sim::RenderResult on = Render(scene, 1.0);
+    const Image<float> measured = RangeAsFloat(on.frame.range_mm);
+    Image<float> ratio;
+    const Image<float> corrected = RemoveMultipath(measured, on.frame.ab, TestCamera(), options, {},
+                                                   {.indirect_ratio = &ratio});
+    EXPECT_EQ(ratio.width(), measured.width());
+    double sum = 0.0;
+    int count = 0;
+    for (std::size_t i = 0; i < ratio.size(); ++i) {
+      if (corrected.pixels()[i] <= 0.0f) continue;
+      const double q = ratio.pixels()[i];
+      const double shift = measured.pixels()[i] - corrected.pixels()[i];
+      EXPECT_LE(std::abs(shift), std::asin(std::min(q, 1.0)) / (2.0 * half_k) + kRoundingMm) << i;
+      sum += q;
+      ++count;
+    }
+    EXPECT_GT(count, 10000);
+    return sum / std::max(count, 1);
+  };
+  const double corner = mean_ratio(CornerScene(true));
+  const double board = mean_ratio(sim::testing::BoardScene(sim::DiffuseMaterial(0.8), 450.0));
+  RecordProperty("corner_mean_ratio", std::to_string(corner));
+  RecordProperty("board_mean_ratio", std::to_string(board));
+  EXPECT_GT(corner, kMinMeanRatio);
+  EXPECT_LT(board, kFlatRatioFraction * corner);
 }
 
 TEST(RemoveMultipath, HintsGiveTheSameRangesWhereWantedAndLeaveTheRestMeasured) {

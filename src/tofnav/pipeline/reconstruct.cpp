@@ -90,6 +90,8 @@ void ReconstructOptions::Check() const {
           "ReconstructOptions::marker_mask_dilation_px must be in [0, 32]");
   Require(std::isfinite(ab_weight_reference) && ab_weight_reference >= 0.0,
           "ReconstructOptions::ab_weight_reference must be >= 0");
+  Require(std::isfinite(multipath_weight_ratio) && multipath_weight_ratio >= 0.0,
+          "ReconstructOptions::multipath_weight_ratio must be >= 0");
   Require(min_ab_weight > 0.0 && min_ab_weight <= 1.0,
           "ReconstructOptions::min_ab_weight must be in (0, 1]");
   Require(frame_step >= 1, "ReconstructOptions::frame_step must be >= 1");
@@ -200,8 +202,14 @@ struct PreparedFrame {
 
 void Prepare(PreparedFrame& p, const AhatCamera& camera, const ReconstructOptions& options) {
   const double ab_threshold = p.tracked->ab_threshold;
-  p.range_mm = options.correct_range ? options.correct_range(p.frame, camera)
-                                     : RangeFromCodes(p.frame.range_mm);
+  Image<float> indirect_ratio;
+  if (options.correct_range) {
+    CorrectedRange corrected = options.correct_range(p.frame, camera);
+    p.range_mm = std::move(corrected.range_mm);
+    indirect_ratio = std::move(corrected.indirect_ratio);
+  } else {
+    p.range_mm = RangeFromCodes(p.frame.range_mm);
+  }
   Require(p.range_mm.width() == camera.width() && p.range_mm.height() == camera.height(),
           "ReconstructSurface: the corrected range image must have the camera's size");
   MaskMarkers(p.frame.ab, ab_threshold, options.marker_mask_dilation_px, p.range_mm);
@@ -221,6 +229,13 @@ void Prepare(PreparedFrame& p, const AhatCamera& camera, const ReconstructOption
   }
   if (options.ab_weight_reference > 0.0) {
     p.weight = AbWeights(p.frame, options.ab_weight_reference, options.min_ab_weight);
+  }
+  if (options.multipath_weight_ratio > 0.0 && !indirect_ratio.empty()) {
+    if (p.weight.empty()) p.weight = Image<float>(camera.width(), camera.height(), 1.0f);
+    for (std::size_t i = 0; i < p.weight.size(); ++i) {
+      const double r = indirect_ratio.pixels()[i] / options.multipath_weight_ratio;
+      p.weight.pixels()[i] = static_cast<float>(p.weight.pixels()[i] / (1.0 + r * r));
+    }
   }
 }
 

@@ -26,10 +26,15 @@
 
 namespace tofnav {
 
-/// Whole-frame surface range correction (Eq. 4): the corrected radial range of every pixel [mm],
-/// 0 = invalid or dropped, the camera's size (e.g. correction::CorrectRangeImage). Empty: none.
+/// A frame's corrected range: radial range of every pixel [mm], 0 = invalid or dropped, the
+/// camera's size; and the multipath removal's indirect-to-direct ratio |q| per pixel (empty: none).
+struct CorrectedRange {
+  Image<float> range_mm;
+  Image<float> indirect_ratio;
+};
+/// Whole-frame surface range correction (Eq. 4, e.g. correction::CorrectFrame). Empty: none.
 using RangeCorrection =
-    std::function<Image<float>(const AhatFrame& frame, const AhatCamera& camera)>;
+    std::function<CorrectedRange(const AhatFrame& frame, const AhatCamera& camera)>;
 
 /// The automatic region of interest (docs/reconstruction.md): on the first frame whose tool is
 /// ok, the surface point seen by the central window of the image (median of its valid points in
@@ -81,6 +86,10 @@ struct ReconstructOptions {
   /// scales with 1 / AB^2), floored at min_ab_weight; 0 = off (every pixel weighs 1).
   double ab_weight_reference = 0.0;
   double min_ab_weight = 0.05;
+  /// Per-pixel weight 1 / (1 + (|q| / multipath_weight_ratio)^2), |q| the multipath removal's
+  /// predicted indirect-to-direct ratio: its error grows with the light it removes, so each voxel
+  /// leans on the views that carry the least of it (docs/reconstruction.md); 0 = off.
+  double multipath_weight_ratio = 0.0;
   std::size_t first_frame = 0;
   std::size_t frame_step = 1;             // fuse every n-th frame
   std::optional<std::size_t> max_frames;  // frames considered (after the step)

@@ -13,7 +13,8 @@ void UseDepthModel(const DepthModelFile& file, ReconstructOptions& options,
   correct.segmentation.head_region = options.head_region;
   options.correct_range = [model = file.model, correct](const AhatFrame& frame,
                                                         const AhatCamera& camera) {
-    return CorrectRangeImage(frame, camera, model, correct);
+    CorrectedFrame corrected = CorrectFrame(frame, camera, model, correct);
+    return CorrectedRange{std::move(corrected.range_mm), std::move(corrected.indirect_ratio)};
   };
 }
 
