@@ -135,6 +135,11 @@ int RunIdentify(int argc, char** argv) {
   app.add_option("--multipath-receiver-stride-px", sampling.multipath.receiver_stride_px,
                  "multipath: indirect light computed every this many pixels, interpolated between")
       ->check(CLI::PositiveNumber);
+  app.add_option("--multipath-passes", sampling.multipath.passes,
+                 "multipath: passes of the fixed point (docs/correction.md 7)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("--multipath-damped,!--multipath-undamped", sampling.multipath.damped,
+               "multipath: damped fixed point, each pass from the mean of the last two (default)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the result as JSON");
   TOFNAV_PARSE(app, argc, argv);
@@ -189,7 +194,9 @@ int RunIdentify(int argc, char** argv) {
   if (result.reference_frame) {
     registration_report = {{"reference_frame", *result.reference_frame},
                            {"icp_rmse_mm", result.icp_rmse_mm},
-                           {"icp_inlier_fraction", result.icp_inlier_fraction}};
+                           {"icp_inlier_fraction", result.icp_inlier_fraction},
+                           {"placed_from", result.placed_from_start_model ? "start model"
+                                                                          : "stage-1 model"}};
   }
 
   const DepthErrorModel& m = file.model;
@@ -232,6 +239,13 @@ int RunIdentify(int argc, char** argv) {
     std::cout << "  reference tool measured in " << result.frames_with_reference_tool << " of "
               << m.report.frames_used + m.report.frames_left_out
               << " frames (Err_C placed the skin once through it: docs/correction.md 2)\n";
+  }
+  if (result.reference_frame) {
+    std::cout << "  skin first placed with " << 100.0 * result.icp_inlier_fraction
+              << " % of the head within the ICP's gate (RMSE " << result.icp_rmse_mm
+              << " mm; from the "
+              << (result.placed_from_start_model ? "start model's" : "stage-1 model's")
+              << " ranges)\n";
   }
   for (const auto& [name, count] : result.tool_marker_observations_left_out) {
     std::cout << "  tool " << name << ": " << count

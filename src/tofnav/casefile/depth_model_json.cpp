@@ -216,6 +216,11 @@ MultipathCorrectionOptions MultipathFromJson(const Json& j, const Path& path) {
       Number(Member(j, "max_indirect_ratio", path, at), path, at + ".max_indirect_ratio");
   o.passes = integer("passes");
   o.alias_mm = Number(Member(j, "alias_mm", path, at), path, at + ".alias_mm");
+  o.damped = false;  // absent: written before it existed, identified undamped
+  if (const auto it = j.find("damped"); it != j.end()) {
+    if (!it->is_boolean()) throw IoError(path, std::nullopt, at + ".damped: boolean");
+    o.damped = it->get<bool>();
+  }
   try {
     o.Check();
   } catch (const std::invalid_argument& e) {
@@ -235,6 +240,7 @@ Json MultipathToJson(const MultipathCorrectionOptions& o) {
               {"max_indirect_ratio", o.max_indirect_ratio},
               {"passes", o.passes},
               {"alias_mm", o.alias_mm},
+              {"damped", o.damped},
               {"units",
                "ab_scale: AB counts m^2 (AB = K rho cos(theta) cos^p(off-axis) / d^2); "
                "strides: px; alias_mm: mm; docs/correction.md 7"}};

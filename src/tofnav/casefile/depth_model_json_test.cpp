@@ -24,6 +24,7 @@ DepthModelFile Example() {
   file.model.multipath.enabled = true;
   file.model.multipath.ab_scale = 71.5;
   file.model.multipath.passes = 3;
+  file.model.multipath.damped = false;  // not the default, so the round trip shows it was read
   file.model.report.method = "levenberg-marquardt";
   file.model.report.costs = "smoothness";
   file.model.report.frames = {{3, -1.0, 0.42, 4}, {7, 0.3, 0.5, 3}};
@@ -56,6 +57,7 @@ TEST(DepthModelJson, RoundTripsModelRangeAndReport) {
   EXPECT_TRUE(out.model.multipath.enabled);
   EXPECT_EQ(out.model.multipath.ab_scale, 71.5);
   EXPECT_EQ(out.model.multipath.passes, 3);
+  EXPECT_FALSE(out.model.multipath.damped);
   EXPECT_EQ(out.model.multipath.source_stride_px, in.model.multipath.source_stride_px);
 }
 
@@ -116,6 +118,18 @@ TEST(DepthModelJson, TheCyclicErrorRoundTripsAndAnOlderFileHasNone) {
   nlohmann::json older = nlohmann::json::parse(text);
   older["model"].erase("cyclic_error");
   EXPECT_FALSE(DecodeDepthModelJson(older.dump()).model.cyclic.enabled());
+}
+
+TEST(DepthModelJson, AnOlderFileWithoutTheDampingIsReadUndamped) {
+  // Its coefficients were identified with the undamped fixed point: correct as they were fitted.
+  DepthModelFile in = Example();
+  in.model.multipath.damped = true;
+  nlohmann::json text = nlohmann::json::parse(EncodeDepthModelJson(in));
+  EXPECT_TRUE(DecodeDepthModelJson(text.dump()).model.multipath.damped);
+  text["model"]["multipath"].erase("damped");
+  EXPECT_FALSE(DecodeDepthModelJson(text.dump()).model.multipath.damped);
+  text["model"]["multipath"]["damped"] = 1;
+  EXPECT_THROW(DecodeDepthModelJson(text.dump()), IoError);
 }
 
 TEST(DepthModelJson, MalformedInputThrowsIoErrorNamingTheProblem) {

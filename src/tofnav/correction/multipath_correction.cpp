@@ -329,8 +329,15 @@ Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint
       pass_hints.wanted = hints.wanted;
       pass_hints.indirect_ratio = hints.indirect_ratio;
     }
-    corrected = CorrectOnce(range_mm, corrected, ab, direct_ab, camera, options, normal_options,
-                            pass_hints, stats);
+    Image<float> next = CorrectOnce(range_mm, corrected, ab, direct_ab, camera, options,
+                                    normal_options, pass_hints, stats);
+    if (options.damped && pass > 0 && pass + 1 < options.passes) {
+      for (std::size_t i = 0; i < next.size(); ++i) {
+        const float before = corrected.pixels()[i], after = next.pixels()[i];
+        if (before > 0.0f && after > 0.0f) next.pixels()[i] = 0.5f * (before + after);
+      }
+    }
+    corrected = std::move(next);
   }
   return corrected;
 }

@@ -36,7 +36,11 @@ struct MultipathCorrectionOptions {
   double max_indirect_ratio = 0.5;
   /// Passes of the fixed-point iteration: each predicts the indirect light from the previous
   /// pass's corrected ranges (the measured ones are distorted by the multipath itself).
-  int passes = 2;
+  int passes = 3;
+  /// Damped fixed point: from the third pass on, each pass predicts from the mean of the two
+  /// previous passes' ranges (undamped, the passes oscillate: docs/correction.md 7.1). A model
+  /// file written before this member existed reads as undamped, as it was identified.
+  bool damped = true;
   /// Phase-wrap distance of the modulation [mm].
   double alias_mm = 1055.0;
   void Check() const;  // throws std::invalid_argument naming the bad field

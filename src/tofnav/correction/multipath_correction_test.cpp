@@ -112,6 +112,47 @@ TEST(RemoveMultipath, TakesAConcaveCornersIndirectLightOut) {
   EXPECT_GT(stats.mean_shift_mm, kMinShiftMm);
 }
 
+TEST(RemoveMultipath, DampedPassesSettleWhereUndampedOnesAlternate) {
+  // The damped fixed point (docs/correction.md 7.1) must keep the corner's residual within the
+  // undamped test's bounds at every pass count, and its last two passes must agree more closely
+  // than the undamped ones, which over- and under-correct in turn.
+  constexpr double kMeanFraction = 0.1;  // as TakesAConcaveCornersIndirectLightOut
+  constexpr double kMeanAbsMm = 0.8;
+  const sim::Scene scene = CornerScene(true);
+  const sim::RenderResult on = Render(scene, 1.0), off = Render(scene, 0.0);
+  const Image<float> measured = RangeAsFloat(on.frame.range_mm);
+  const auto correct = [&](int passes, bool damped) {
+    MultipathCorrectionOptions options = OptionsFor(sim::IdealRenderOptions());
+    options.passes = passes;
+    options.damped = damped;
+    return RemoveMultipath(measured, on.frame.ab, TestCamera(), options);
+  };
+  const auto change_mm = [](const Image<float>& a, const Image<float>& b) {
+    double sum = 0.0;
+    int n = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (a.pixels()[i] > 0.0f && b.pixels()[i] > 0.0f) {
+        sum += std::abs(a.pixels()[i] - b.pixels()[i]);
+        ++n;
+      }
+    }
+    return n > 0 ? sum / n : 0.0;
+  };
+  // Two passes: the damping starts at the third, so the ranges are the same.
+  EXPECT_EQ(change_mm(correct(2, true), correct(2, false)), 0.0);
+  for (const int passes : {3, 4, 5}) {
+    const Residual r = Compare(on, off, correct(passes, true));
+    RecordProperty("damped_" + std::to_string(passes) + "_mean_mm", std::to_string(r.after_mm));
+    EXPECT_LT(std::abs(r.after_mm), kMeanFraction * r.before_mm) << passes;
+    EXPECT_LT(r.after_abs_mm, kMeanAbsMm) << passes;
+  }
+  const double damped_step_mm = change_mm(correct(5, true), correct(6, true));
+  const double undamped_step_mm = change_mm(correct(5, false), correct(6, false));
+  RecordProperty("damped_step_mm", std::to_string(damped_step_mm));
+  RecordProperty("undamped_step_mm", std::to_string(undamped_step_mm));
+  EXPECT_LT(damped_step_mm, undamped_step_mm);
+}
+
 TEST(RemoveMultipath, LeavesAConvexCornerAndAFlatBoardAlone) {
   // Surfaces that do not face each other exchange no light: nothing to remove.
   constexpr double kToleranceMm = 0.01;

@@ -58,6 +58,8 @@ struct IdentifyRecordingResult {
   std::optional<int> reference_frame;
   double icp_rmse_mm = 0.0;
   double icp_inlier_fraction = 0.0;
+  /// The first placement kept was the one from the start model's ranges, not stage 1's.
+  bool placed_from_start_model = false;
   /// With exclude_tools: marker observations (a tool marker in a frame) blanked, per tool name,
   /// and the frames in which at least one was.
   std::vector<std::pair<std::string, std::int64_t>> tool_marker_observations_left_out;
