@@ -192,11 +192,11 @@ int RunIdentify(int argc, char** argv) {
   WriteDepthModelJson(out_path, file, &effective_options);
   nlohmann::ordered_json registration_report;
   if (result.reference_frame) {
-    registration_report = {{"reference_frame", *result.reference_frame},
-                           {"icp_rmse_mm", result.icp_rmse_mm},
-                           {"icp_inlier_fraction", result.icp_inlier_fraction},
-                           {"placed_from", result.placed_from_start_model ? "start model"
-                                                                          : "stage-1 model"}};
+    registration_report = {
+        {"reference_frame", *result.reference_frame},
+        {"icp_rmse_mm", result.icp_rmse_mm},
+        {"icp_inlier_fraction", result.icp_inlier_fraction},
+        {"placed_from", result.placed_from_start_model ? "start model" : "stage-1 model"}};
   }
 
   const DepthErrorModel& m = file.model;
