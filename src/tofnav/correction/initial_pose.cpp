@@ -54,4 +54,21 @@ InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> fram
   return out;
 }
 
+BestStartPlacement InitialImageFromBestStart(std::span<const IdentificationFrame> frames,
+                                             const SurfaceIndex& skin_in_image,
+                                             std::span<const DepthErrorModel> starts,
+                                             const InitialPoseOptions& options) {
+  if (starts.empty()) throw std::invalid_argument("InitialImageFromBestStart: no start model");
+  BestStartPlacement best;
+  for (std::size_t i = 0; i < starts.size(); ++i) {
+    InitialPoseResult pose = InitialImageFromAhat(frames, skin_in_image, starts[i], options);
+    if (best.start < 0 ||
+        pose.registration.icp.inlier_fraction > best.pose.registration.icp.inlier_fraction) {
+      best.pose = std::move(pose);
+      best.start = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
 }  // namespace tofnav

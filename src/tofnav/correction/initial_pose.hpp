@@ -38,4 +38,21 @@ InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> fram
                                        const DepthErrorModel& model,
                                        const InitialPoseOptions& options = {});
 
+/// The placement kept among several starts.
+struct BestStartPlacement {
+  InitialPoseResult pose;
+  int start = -1;  // index into the starts
+};
+
+/// InitialImageFromAhat from each model in `starts` (in order); keeps the placement whose ICP
+/// keeps the largest fraction of the merged cloud within its finest gate (the first on a tie).
+/// A model far from the truth corrects the frames' ranges differently along their different
+/// rays, so their clouds disagree and fewer points reach the skin; the coarse search can also
+/// settle in a wrong basin from one start and not from another (docs/correction.md 2).
+/// Throws std::invalid_argument when `starts` is empty or no frame has a pose and head samples.
+BestStartPlacement InitialImageFromBestStart(std::span<const IdentificationFrame> frames,
+                                             const SurfaceIndex& skin_in_image,
+                                             std::span<const DepthErrorModel> starts,
+                                             const InitialPoseOptions& options = {});
+
 }  // namespace tofnav

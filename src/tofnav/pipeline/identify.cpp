@@ -2,6 +2,7 @@
 // Identification from a recording: frame preparation, two stages, the skin placed once.
 #include "tofnav/pipeline/identify.hpp"
 
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -127,12 +128,10 @@ IdentifyRecordingResult IdentifyFromRecording(
     // ranges it can settle in a wrong basin (ct-mirror-discs, session 17: 38 % inliers, frames
     // 5 mm off, against 66 % from the start model). Both starts are tried; the one that keeps
     // more of the cloud within the ICP's finest gate is kept (docs/correction.md 2).
-    InitialPoseResult pose = InitialImageFromAhat(frames, *skin, model);
-    if (InitialPoseResult other = InitialImageFromAhat(frames, *skin, options.start);
-        other.registration.icp.inlier_fraction > pose.registration.icp.inlier_fraction) {
-      pose = std::move(other);
-      result.placed_from_start_model = true;
-    }
+    const std::array<DepthErrorModel, 2> starts = {model, options.start};
+    BestStartPlacement placement = InitialImageFromBestStart(frames, *skin, starts);
+    result.placed_from_start_model = placement.start == 1;
+    const InitialPoseResult& pose = placement.pose;
     const CorrectnessTarget target{skin, pose.image_from_ahat};
     result.reference_frame = frames[static_cast<std::size_t>(pose.reference_frame)].index;
     result.icp_rmse_mm = pose.registration.icp.rmse_mm;
