@@ -51,7 +51,8 @@ namespace {
 // What navigation left out, and why: reference poses that jumped in the world, and per tool the
 // marker observations by how they entered the pose (docs/navigation.md section 1.1).
 nlohmann::ordered_json DroppedJson(const NavigationSessionStats& stats) {
-  nlohmann::ordered_json j{{"reference_pose_jumps", stats.reference_pose_jumps}};
+  nlohmann::ordered_json j{{"reference_pose_jumps", stats.reference_pose_jumps},
+                           {"poses_refused_void", stats.poses_refused_void}};
   const auto uses = [](const std::map<MarkerUse, std::int64_t>& counts) {
     nlohmann::ordered_json u = nlohmann::ordered_json::object();
     for (const auto& [use, n] : counts) u[ToString(use)] = n;
@@ -65,6 +66,10 @@ nlohmann::ordered_json DroppedJson(const NavigationSessionStats& stats) {
 void PrintDropped(const NavigationSessionStats& stats) {
   std::cout << "  reference poses left out as jumps in the world: " << stats.reference_pose_jumps
             << "\n";
+  if (stats.poses_refused_void > 0) {
+    std::cout << "  candidate poses refused for a marker where the image shows empty space: "
+              << stats.poses_refused_void << "\n";
+  }
   const auto print = [](const char* tool, const std::map<MarkerUse, std::int64_t>& counts) {
     std::int64_t not_used = 0;
     for (const auto& [use, n] : counts) not_used += InPose(use) ? 0 : n;

@@ -30,6 +30,8 @@ nlohmann::ordered_json DropsJson(const ToolMarkerDrops& drops, std::size_t marke
                            {"frames_with_drops", drops.frames_with_drops},
                            {"observations_dropped", 0},
                            {"unchecked_frames", drops.unchecked_frames},
+                           {"frames_with_void_refusals", drops.frames_with_void_refusals},
+                           {"void_refusals", drops.void_refusals},
                            {"markers", nlohmann::ordered_json::array()}};
   std::int64_t dropped_total = 0;
   for (std::size_t k = 0; k < marker_count; ++k) {
@@ -72,6 +74,11 @@ void PrintDrops(const nlohmann::ordered_json& drops) {
     std::cout << "    " << drops["unchecked_frames"].get<std::int64_t>()
               << " posed frames had too few markers to check for a wrong one\n";
   }
+  if (drops["void_refusals"].get<std::int64_t>() > 0) {
+    std::cout << "    " << drops["void_refusals"].get<std::int64_t>() << " candidate poses in "
+              << drops["frames_with_void_refusals"].get<std::int64_t>()
+              << " frames refused: they put a marker where the image shows empty space\n";
+  }
 }
 
 }  // namespace
@@ -97,6 +104,9 @@ int RunTrack(int argc, char** argv) {
   app.add_flag("--ahat-filter", ahat_filter,
                "filter the orientation in ahat even when frames carry a rig pose");
   app.add_option("--max-fre", options.pose.max_fre_mm, "FRE acceptance [mm]");
+  bool keep_void_poses = false;
+  app.add_flag("--keep-void-poses", keep_void_poses,
+               "keep poses that put an unmatched marker where the image shows empty space");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
   TOFNAV_PARSE(app, argc, argv);
@@ -114,6 +124,7 @@ int RunTrack(int argc, char** argv) {
   if (!marker_error_path.empty()) model = ReadMarkerRangeJson(marker_error_path).model;
   options.filter_enabled = !no_filter;
   options.rotation_in_world = !ahat_filter;
+  options.pose.refuse_void_poses = !keep_void_poses;
   const MarkerSource source = OpenMarkerSource(source_args);
   ProgressBar progress("track", quiet || json);
   const auto start = std::chrono::steady_clock::now();

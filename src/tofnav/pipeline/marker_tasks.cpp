@@ -35,6 +35,10 @@ ToolPoseRecord Record(std::size_t index, const AhatFrame& frame, const ToolGeome
 // Adds one frame's marker uses of a tool to its tally.
 void Tally(const TrackedTool& tracked, ToolMarkerDrops& drops) {
   const ToolPoseResult& m = tracked.measurement;
+  if (m.candidates_refused_void > 0) {
+    ++drops.frames_with_void_refusals;
+    drops.void_refusals += m.candidates_refused_void;
+  }
   if (!m.ahat_from_tool) return;
   ++drops.posed_frames;
   if (!m.outliers_checked) ++drops.unchecked_frames;
@@ -90,8 +94,10 @@ std::vector<ToolPoseRecord> TrackTools(const MarkerSource& source,
       [&](std::size_t index, const AhatFrame& frame, MarkerDetectionResult& detected) {
         std::vector<DetectedMarker>& markers = detected.markers;
         if (!marker_range.empty()) markers = CorrectMarkerRanges(std::move(markers), marker_range);
-        const TrackingFrame tracked = tracker.Track(
-            markers, frame.timestamp_s(), WorldFromAhat(frame, *source.camera), detected.dropped);
+        const MarkerVoidTest void_test(frame, *source.camera, detected);
+        const TrackingFrame tracked =
+            tracker.Track(markers, frame.timestamp_s(), WorldFromAhat(frame, *source.camera),
+                          detected.dropped, &void_test);
         if (drops) {
           for (const DroppedBlob& b : detected.dropped) ++drops->blobs[b.reason];
           for (std::size_t t = 0; t < tools.size(); ++t) Tally(tracked.tools[t], drops->tools[t]);

@@ -24,6 +24,10 @@ struct ToolMarkerDrops {
   std::int64_t posed_frames = 0;
   std::int64_t frames_with_drops = 0;  // posed frames with a marker dropped (not just unseen)
   std::int64_t unchecked_frames = 0;   // posed from markers too few to check for an outlier
+  /// Frames in which a candidate pose was refused: it put an unmatched marker where the images
+  /// show empty space (MarkerVoidTest), and candidates refused in all.
+  std::int64_t frames_with_void_refusals = 0;
+  std::int64_t void_refusals = 0;
   /// Per tool marker: posed frames in which it was not kUsed, by MarkerUse.
   std::vector<std::map<MarkerUse, std::int64_t>> per_marker;
 };

@@ -94,8 +94,9 @@ NavigationState Navigator::Process(const AhatFrame& frame) {  // Sec. III-C
       CorrectMarkerRanges(detected.markers, case_.marker_range);
   std::optional<Rigid3d> world_from_ahat;
   if (frame.world_from_rig) world_from_ahat = *frame.world_from_rig * camera_.rig_from_ahat();
-  const TrackingFrame tracked =
-      tracker_.Track(corrected, timestamp_s, world_from_ahat, detected.dropped);  // ahat_from_tool
+  const MarkerVoidTest void_test(frame, camera_, detected);
+  const TrackingFrame tracked = tracker_.Track(corrected, timestamp_s, world_from_ahat,
+                                               detected.dropped, &void_test);  // ahat_from_tool
   return Place(timestamp_s, tracked, frame.world_from_rig, static_cast<int>(corrected.size()));
 }
 
@@ -111,6 +112,9 @@ NavigationState Navigator::Place(double timestamp_s, const TrackingFrame& tracke
   const TrackedTool& reference = tracked.tools.front();
   state.reference_status = reference.status();
   state.reference_marker_use = reference.measurement.marker_use;
+  for (const TrackedTool& t : tracked.tools) {
+    state.poses_refused_void += t.measurement.candidates_refused_void;
+  }
   state.ahat_from_tool = PoseOf(reference, options_.tracking.filter_enabled);
   bool fresh = false;
   if (state.ahat_from_tool && world_from_rig) {

@@ -79,10 +79,13 @@ struct NavigationState {
   PoseConsistencyResult reference_pose_check;
   std::vector<MarkerUse> reference_marker_use;   // per reference marker: in the pose, or why not
   std::vector<MarkerUse> instrument_marker_use;  // the same for the instrument
-  std::optional<Rigid3d> ahat_from_tool;         // reference, measured in this frame (filtered)
-  std::optional<Rigid3d> world_from_rig;         // this frame's head pose
-  std::optional<Rigid3d> world_from_image;       // Eq. (8): kTracking (current) or kHolding (held)
-  std::vector<PlacedTrajectory> plan;  // one per NavigationCase::plan when world_from_image
+  /// Candidate poses of the reference and the instrument refused this frame: each put a marker
+  /// no blob matched where the images show empty space (MarkerVoidTest, docs/tracking.md 6).
+  int poses_refused_void = 0;
+  std::optional<Rigid3d> ahat_from_tool;    // reference, measured in this frame (filtered)
+  std::optional<Rigid3d> world_from_rig;    // this frame's head pose
+  std::optional<Rigid3d> world_from_image;  // Eq. (8): kTracking (current) or kHolding (held)
+  std::vector<PlacedTrajectory> plan;       // one per NavigationCase::plan when world_from_image
   std::optional<ToolStatus> instrument_status;  // with an instrument only
   std::optional<Rigid3d> ahat_from_instrument;  // measured in this frame
   std::optional<Rigid3d> tool_from_instrument;  // both tools measured in this frame

@@ -35,6 +35,7 @@ NavigationSessionStats RunNavigationSession(
         break;
     }
     stats.reference_pose_jumps += state.reference_pose_jump ? 1 : 0;
+    stats.poses_refused_void += state.poses_refused_void;
     // A tool without a pose has all its markers kUnseen: only a posed tool's say something.
     const auto posed = [](ToolStatus s) {
       return s == ToolStatus::kOk || s == ToolStatus::kPartiallyOccluded;

@@ -23,6 +23,7 @@ struct NavigationSessionStats {
   /// per tool (reference, then instrument) the marker observations by how they entered the pose
   /// (MarkerUse; frames where the tool was matched).
   std::int64_t reference_pose_jumps = 0;
+  std::int64_t poses_refused_void = 0;  // NavigationState::poses_refused_void, summed
   std::map<MarkerUse, std::int64_t> reference_markers, instrument_markers;
   double first_timestamp_s = 0.0;
   double last_timestamp_s = 0.0;

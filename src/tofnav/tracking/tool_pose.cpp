@@ -16,6 +16,9 @@ struct Scored {
   std::size_t candidate = 0;
   double score = 0.0;
   bool dominated = false;  // another tool's whole candidate explains its blobs (Dominates)
+  /// The frame's images show empty space where it puts an unmatched marker (MarkerVoidTest):
+  /// never accepted, but still a rival, so that refusing it can only take a pose away.
+  bool refused = false;
 };
 
 bool Uses(const ToolCandidate& c, const std::vector<bool>& used) {
@@ -45,6 +48,17 @@ bool Dominates(const ToolCandidate& full, std::size_t full_markers, const ToolCa
   });
 }
 
+// True when the candidate leaves a marker unmatched where the images show empty space.
+bool PutsAMarkerInTheVoid(const ToolGeometry& tool, const ToolCandidate& c,
+                          const MarkerVoidTest& void_test) {
+  for (std::size_t k = 0; k < tool.markers_in_tool.size() && k < c.scene_index.size(); ++k) {
+    if (c.scene_index[k] >= 0) continue;
+    const Eigen::Vector3d centre = c.fit.target_from_source * tool.markers_in_tool[k];
+    if (void_test.IsVoid(centre, tool.marker_diameter_mm)) return true;
+  }
+  return false;
+}
+
 // Replaces the matched Kabsch pose by FitToolMarkers': the markers it should use, refined.
 void FitUsed(std::span<const DetectedMarker> detections, const Points3d& centres,
              const ToolGeometry& tool, const ToolPoseOptions& options,
@@ -66,7 +80,8 @@ void FitUsed(std::span<const DetectedMarker> detections, const Points3d& centres
 class Arbiter {
  public:
   Arbiter(std::span<const Points3d> centres, std::span<const ToolGeometry> tools,
-          std::span<const std::optional<Rigid3d>> predicted, const ToolPoseOptions& options)
+          std::span<const std::optional<Rigid3d>> predicted, const ToolPoseOptions& options,
+          const MarkerVoidTest* void_test = nullptr)
       : tools_(tools), options_(options), results_(tools.size()), resolved_(tools.size(), false) {
     for (std::size_t t = 0; t < tools.size(); ++t) {
       results_[t].marker_use.assign(tools[t].markers_in_tool.size(), MarkerUse::kUnseen);
@@ -83,7 +98,10 @@ class Arbiter {
       results_[t].candidate_count = static_cast<int>(searches_[t].candidates.size());
       const std::optional<Rigid3d> prior = predicted.empty() ? std::nullopt : predicted[t];
       for (std::size_t c = 0; c < searches_[t].candidates.size(); ++c) {
-        scored_.push_back({t, c, Score(tool, searches_[t].candidates[c], prior)});
+        const bool refused = void_test && options.refuse_void_poses &&
+                             PutsAMarkerInTheVoid(tool, searches_[t].candidates[c], *void_test);
+        if (refused) ++results_[t].candidates_refused_void;
+        scored_.push_back({t, c, Score(tool, searches_[t].candidates[c], prior), false, refused});
       }
     }
     std::stable_sort(scored_.begin(), scored_.end(),
@@ -98,7 +116,7 @@ class Arbiter {
 
   std::vector<ToolPoseResult> Run() {
     for (const Scored& s : scored_) {
-      if (resolved_[s.tool] || Uses(Candidate(s), used_) || s.dominated) continue;
+      if (resolved_[s.tool] || Uses(Candidate(s), used_) || s.dominated || s.refused) continue;
       Decide(s);
     }
     const int free = static_cast<int>(std::count(used_.begin(), used_.end(), false));
@@ -228,7 +246,8 @@ void ToolPoseOptions::Check() const {
 std::vector<ToolPoseResult> EstimateToolPoses(
     std::span<const DetectedMarker> detections, std::span<const ToolGeometry> tools,
     std::span<const std::optional<Rigid3d>> predicted_ahat_from_tool,
-    const ToolPoseOptions& options, std::span<const DroppedBlob> dropped) {
+    const ToolPoseOptions& options, std::span<const DroppedBlob> dropped,
+    const MarkerVoidTest* void_test) {
   options.Check();
   Require(predicted_ahat_from_tool.empty() || predicted_ahat_from_tool.size() == tools.size(),
           "EstimateToolPoses: predicted_ahat_from_tool must be empty or one per tool");
@@ -239,7 +258,7 @@ std::vector<ToolPoseResult> EstimateToolPoses(
     centres.push_back(MarkerCentres(detections, tool.SurfaceToCentreMm()));
   }
   std::vector<ToolPoseResult> results =
-      Arbiter(centres, tools, predicted_ahat_from_tool, options).Run();
+      Arbiter(centres, tools, predicted_ahat_from_tool, options, void_test).Run();
   for (std::size_t t = 0; t < tools.size(); ++t) {
     if (results[t].ahat_from_tool)
       FitUsed(detections, centres[t], tools[t], options, dropped, results[t]);

@@ -10,6 +10,7 @@
 
 #include "tofnav/core/rigid3d.hpp"
 #include "tofnav/markers/marker_detection.hpp"
+#include "tofnav/markers/marker_void.hpp"
 #include "tofnav/tracking/correspondence.hpp"
 #include "tofnav/tracking/pose_refinement.hpp"
 #include "tofnav/tracking/robust_pose.hpp"
@@ -45,7 +46,10 @@ struct ToolPoseOptions {
   double distinct_rotation_rad = 0.1;  // poses differing by more than either are distinct
   double distinct_translation_mm = 3.0;
   int max_search_nodes = 200000;  // per tool; a truncated search reports kAmbiguous
-  void Check() const;             // throws std::invalid_argument naming the bad field
+  /// Refuse candidates that put an unmatched marker in empty space, when the caller gives the
+  /// frame's images (EstimateToolPoses' void_test; docs/tracking.md 6).
+  bool refuse_void_poses = true;
+  void Check() const;  // throws std::invalid_argument naming the bad field
 };
 
 struct ToolPoseResult {
@@ -66,6 +70,9 @@ struct ToolPoseResult {
   double noise_chi2_limit = 0.0;
   bool outliers_checked = false;
   int candidate_count = 0;  // candidates the search found for this tool
+  /// Candidates refused because the frame's images show no marker, and nothing that could hide
+  /// one, where they put an unmatched marker (MarkerVoidTest; docs/tracking.md 6).
+  int candidates_refused_void = 0;
   /// Score gap to the best distinct alternative (infinity when there is none) [mm].
   double second_best_margin_mm = std::numeric_limits<double>::infinity();
 };
@@ -76,11 +83,15 @@ struct ToolPoseResult {
 /// guessing. `predicted_ahat_from_tool` is empty or has one (optional) entry per tool. Each pose
 /// is then fitted to the markers it should use (FitToolMarkers: damaged and inconsistent ones
 /// left out); an unseen marker on a `dropped` blob (MarkerDetectionResult::dropped) says so.
-/// Calls Check() on the options and every tool (throws std::invalid_argument).
+/// With `void_test` (the frame's images), a candidate that leaves a marker unmatched where the
+/// images show empty space in front of a far surface is refused before scoring: a wrong triangle
+/// of a four-marker plate puts its fourth marker there. Calls Check() on the options and every
+/// tool (throws std::invalid_argument).
 std::vector<ToolPoseResult> EstimateToolPoses(
     std::span<const DetectedMarker> detections, std::span<const ToolGeometry> tools,
     std::span<const std::optional<Rigid3d>> predicted_ahat_from_tool = {},
-    const ToolPoseOptions& options = {}, std::span<const DroppedBlob> dropped = {});
+    const ToolPoseOptions& options = {}, std::span<const DroppedBlob> dropped = {},
+    const MarkerVoidTest* void_test = nullptr);
 
 /// One tool from marker centres already in `ahat` (e.g. after Eq. (2) and the radius).
 ToolPoseResult EstimateToolPose(std::span<const Eigen::Vector3d> centres_in_ahat,

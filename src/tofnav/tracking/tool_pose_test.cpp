@@ -6,8 +6,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
+#include "marker_test_scenes.hpp"
 #include "matchers.hpp"
 #include "tracking_test_tools.hpp"
 
@@ -108,6 +110,61 @@ TEST(EstimateToolPoses, FlagsSymmetryAndTwinToolsAsAmbiguousUnlessThePriorDecide
   for (const ToolPoseResult& r : EstimateToolPoses(both, twins)) {
     EXPECT_EQ(r.status, ToolStatus::kAmbiguous);
   }
+}
+
+// A wrong triangle of a four-marker tool leaves its fourth marker where the images show empty
+// space before a far wall; the right one leaves it under the hand that hides it.
+TEST(EstimateToolPoses, APoseThatPutsAnUnmatchedMarkerInEmptySpaceIsRefused) {
+  // C and D lie at the same distances from A and B (D is C turned by 60 deg about AB), so the
+  // triangle ABD fits the blobs of A, B, C exactly: geometry alone cannot tell the two poses.
+  ToolGeometry tool;
+  tool.name = "near_twin_triangles";
+  tool.markers_in_tool = {{0, 0, 0}, {60, 0, 0}, {20, 40, 0}, {20, 20, 34.641}};
+  std::mt19937_64 rng(11);
+  const Rigid3d truth = testing::FacingToolPose({-10, 5, 500}, 0.9, 0.3);
+  const Rigid3d wrong =  // tool marker D onto blob C: turned by -60 deg about AB (tool x)
+      truth * Rigid3d(Eigen::Quaterniond(
+                          Eigen::AngleAxisd(-std::numbers::pi / 3.0, Eigen::Vector3d::UnitX())),
+                      Eigen::Vector3d::Zero());
+  std::vector<DetectedMarker> d = ToolDetections(tool, truth, 0.05, rng);
+  d.pop_back();  // D is hidden by a hand 80 mm in front of it
+  const ToolGeometry tools[] = {tool};
+  EXPECT_EQ(EstimateToolPoses(d, tools)[0].status, ToolStatus::kAmbiguous);
+  // A prior at the wrong pose (a stale one, or a wrong triangle that fits better) picks it.
+  const std::optional<Rigid3d> prior[] = {wrong};
+  const ToolPoseResult guessed = EstimateToolPoses(d, tools, prior)[0];
+  ASSERT_TRUE(guessed.ahat_from_tool.has_value());
+  EXPECT_THAT(*guessed.ahat_from_tool, RigidNear(wrong, 3.0 * kPoseRotTolRad, kPoseTransTolMm));
+
+  AhatFrame frame;  // a far dark wall, and the hand over D
+  frame.range_mm = Image<std::uint16_t>(kAhatWidth, kAhatHeight, 900);
+  frame.ab = Image<std::uint16_t>(kAhatWidth, kAhatHeight, 60);
+  const Eigen::Vector3d hidden = truth * tool.markers_in_tool[3];
+  const Eigen::Vector2d hand_px = *testing::TestCamera().Project(hidden);
+  for (int v = 0; v < kAhatHeight; ++v) {
+    for (int u = 0; u < kAhatWidth; ++u) {
+      if ((Eigen::Vector2d(u, v) - hand_px).norm() < 8.0) {
+        frame.range_mm(u, v) = static_cast<std::uint16_t>(hidden.norm() - 80.0);
+      }
+    }
+  }
+  // With the images the wrong pose is refused; the right one, which it still rivals, is not
+  // accepted in its place: the test only ever takes a pose away.
+  const MarkerVoidTest void_test(frame, testing::TestCamera());
+  const ToolPoseResult r = EstimateToolPoses(d, tools, prior, {}, {}, &void_test)[0];
+  EXPECT_FALSE(r.ahat_from_tool.has_value());
+  EXPECT_EQ(r.status, ToolStatus::kAmbiguous);
+  EXPECT_EQ(r.candidates_refused_void, 1);
+  ToolPoseOptions keep;
+  keep.refuse_void_poses = false;
+  EXPECT_TRUE(EstimateToolPoses(d, tools, prior, keep, {}, &void_test)[0].ahat_from_tool);
+
+  // Without the hand the right pose's D is empty space too: both are refused.
+  frame.range_mm = Image<std::uint16_t>(kAhatWidth, kAhatHeight, 900);
+  const MarkerVoidTest no_hand(frame, testing::TestCamera());
+  const ToolPoseResult none = EstimateToolPoses(d, tools, prior, {}, {}, &no_hand)[0];
+  EXPECT_FALSE(none.ahat_from_tool.has_value());
+  EXPECT_EQ(none.candidates_refused_void, 2);
 }
 
 TEST(EstimateToolPoses, AToolSeenWholeIsNotAmbiguousWithAnotherToolsTriangleOfIt) {

@@ -60,7 +60,8 @@ void ToolTracker::Reset() {
 
 TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, double timestamp_s,
                                  const std::optional<Rigid3d>& world_from_ahat,
-                                 std::span<const DroppedBlob> dropped) {
+                                 std::span<const DroppedBlob> dropped,
+                                 const MarkerVoidTest* void_test) {
   const bool in_world = options_.filter_enabled && options_.rotation_in_world && world_from_ahat;
   // ahat(now)_from_ahat(then), `then` about camera_motion_baseline_s ago, from the camera poses.
   std::optional<Rigid3d> camera_step;
@@ -92,7 +93,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
   TrackingFrame frame;
   frame.timestamp_s = timestamp_s;
   std::vector<ToolPoseResult> poses =
-      EstimateToolPoses(detections, tools_, prior, options_.pose, dropped);
+      EstimateToolPoses(detections, tools_, prior, options_.pose, dropped, void_test);
   for (std::size_t t = 0; t < tools_.size(); ++t) {
     TrackedTool tracked;
     tracked.measurement = std::move(poses[t]);

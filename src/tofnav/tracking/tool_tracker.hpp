@@ -76,10 +76,12 @@ class ToolTracker {
 
   /// `world_from_ahat`: the camera pose of this frame when known (world_from_rig * rig_from_ahat).
   /// `dropped`: the frame's dropped blobs (MarkerDetectionResult::dropped), to say why a tool
-  /// marker on one was not used.
+  /// marker on one was not used. `void_test`: the frame's images, to refuse a pose that puts an
+  /// unmatched marker in empty space (EstimateToolPoses).
   TrackingFrame Track(std::span<const DetectedMarker> detections, double timestamp_s,
                       const std::optional<Rigid3d>& world_from_ahat = std::nullopt,
-                      std::span<const DroppedBlob> dropped = {});
+                      std::span<const DroppedBlob> dropped = {},
+                      const MarkerVoidTest* void_test = nullptr);
   const std::vector<ToolGeometry>& tools() const { return tools_; }
   void Reset();
 
