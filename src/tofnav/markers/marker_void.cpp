@@ -4,27 +4,21 @@
 
 #include <algorithm>
 #include <cmath>
-#include <stdexcept>
 #include <vector>
+
+#include "tofnav/core/require.hpp"
 
 namespace tofnav {
 
 void MarkerVoidOptions::Check() const {
-  if (!(ab_threshold > 0.0))
-    throw std::invalid_argument("MarkerVoidOptions::ab_threshold must be > 0");
-  if (!(behind_margin_mm > 0.0)) {
-    throw std::invalid_argument("MarkerVoidOptions::behind_margin_mm must be > 0");
-  }
-  if (!(min_valid_fraction > 0.0 && min_valid_fraction <= 1.0)) {
-    throw std::invalid_argument("MarkerVoidOptions::min_valid_fraction must be in (0, 1]");
-  }
-  if (!(in_front_margin_mm >= 0.0)) {
-    throw std::invalid_argument("MarkerVoidOptions::in_front_margin_mm must be >= 0");
-  }
-  if (!(max_in_front_fraction >= 0.0 && max_in_front_fraction < 1.0)) {
-    throw std::invalid_argument("MarkerVoidOptions::max_in_front_fraction must be in [0, 1)");
-  }
-  if (!(pad_px >= 0.0)) throw std::invalid_argument("MarkerVoidOptions::pad_px must be >= 0");
+  Require(ab_threshold > 0.0, "MarkerVoidOptions::ab_threshold must be > 0");
+  Require(behind_margin_mm > 0.0, "MarkerVoidOptions::behind_margin_mm must be > 0");
+  Require(min_valid_fraction > 0.0 && min_valid_fraction <= 1.0,
+          "MarkerVoidOptions::min_valid_fraction must be in (0, 1]");
+  Require(in_front_margin_mm >= 0.0, "MarkerVoidOptions::in_front_margin_mm must be >= 0");
+  Require(max_in_front_fraction >= 0.0 && max_in_front_fraction < 1.0,
+          "MarkerVoidOptions::max_in_front_fraction must be in [0, 1)");
+  Require(pad_px >= 0.0, "MarkerVoidOptions::pad_px must be >= 0");
 }
 
 MarkerVoidTest::MarkerVoidTest(const AhatFrame& frame, const AhatCamera& camera,
@@ -34,10 +28,10 @@ MarkerVoidTest::MarkerVoidTest(const AhatFrame& frame, const AhatCamera& camera,
 }
 
 MarkerVoidTest::MarkerVoidTest(const AhatFrame& frame, const AhatCamera& camera,
-                               const MarkerDetectionResult& detected)
+                               double detector_ab_threshold)
     : MarkerVoidTest(frame, camera, [&] {
         MarkerVoidOptions options;
-        if (detected.ab_threshold > 0.0) options.ab_threshold = detected.ab_threshold;
+        if (detector_ab_threshold > 0.0) options.ab_threshold = detector_ab_threshold;
         return options;
       }()) {}
 

@@ -27,7 +27,7 @@ struct MarkerVoidOptions {
   double in_front_margin_mm = 5.0;
   double max_in_front_fraction = 0.1;
   double pad_px = 1.0;  // added to the marker's radius in pixels
-  void Check() const;   // throws std::invalid_argument naming the bad field
+  void Check() const;   // throws PreconditionError (std::invalid_argument) naming the bad field
 };
 
 /// One frame's range and AB images with the camera that saw them, asked about places where a
@@ -36,9 +36,9 @@ class MarkerVoidTest {
  public:
   MarkerVoidTest(const AhatFrame& frame, const AhatCamera& camera,
                  const MarkerVoidOptions& options = {});
-  /// The defaults, with the brightness threshold the detector used on this frame (`detected`).
-  MarkerVoidTest(const AhatFrame& frame, const AhatCamera& camera,
-                 const MarkerDetectionResult& detected);
+  /// The defaults, with the brightness threshold the detector used on this frame
+  /// (MarkerDetectionResult::ab_threshold; 0 keeps the default).
+  MarkerVoidTest(const AhatFrame& frame, const AhatCamera& camera, double detector_ab_threshold);
 
   /// True when the images show no marker at `centre_in_ahat` [mm] and nothing that could hide
   /// one: the centre projects into the image, no pixel of the marker's disc (radius

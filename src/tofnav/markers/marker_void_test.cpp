@@ -75,7 +75,8 @@ TEST(MarkerVoidTest, TheDetectorsThresholdSaysWhatIsBrightAndBadOptionsThrow) {
   EXPECT_FALSE(MarkerVoidTest(frame, TestCamera()).IsVoid(place, kDiameterMm));
   MarkerDetectionResult detected;
   detected.ab_threshold = 5000.0;
-  EXPECT_TRUE(MarkerVoidTest(frame, TestCamera(), detected).IsVoid(place, kDiameterMm));
+  EXPECT_TRUE(
+      MarkerVoidTest(frame, TestCamera(), detected.ab_threshold).IsVoid(place, kDiameterMm));
   MarkerVoidOptions bad;
   bad.behind_margin_mm = 0.0;
   EXPECT_THROW(MarkerVoidTest(frame, TestCamera(), bad), std::invalid_argument);

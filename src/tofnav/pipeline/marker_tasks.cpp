@@ -94,7 +94,7 @@ std::vector<ToolPoseRecord> TrackTools(const MarkerSource& source,
       [&](std::size_t index, const AhatFrame& frame, MarkerDetectionResult& detected) {
         std::vector<DetectedMarker>& markers = detected.markers;
         if (!marker_range.empty()) markers = CorrectMarkerRanges(std::move(markers), marker_range);
-        const MarkerVoidTest void_test(frame, *source.camera, detected);
+        const MarkerVoidTest void_test(frame, *source.camera, detected.ab_threshold);
         const TrackingFrame tracked =
             tracker.Track(markers, frame.timestamp_s(), WorldFromAhat(frame, *source.camera),
                           detected.dropped, &void_test);

@@ -94,7 +94,7 @@ NavigationState Navigator::Process(const AhatFrame& frame) {  // Sec. III-C
       CorrectMarkerRanges(detected.markers, case_.marker_range);
   std::optional<Rigid3d> world_from_ahat;
   if (frame.world_from_rig) world_from_ahat = *frame.world_from_rig * camera_.rig_from_ahat();
-  const MarkerVoidTest void_test(frame, camera_, detected);
+  const MarkerVoidTest void_test(frame, camera_, detected.ab_threshold);
   const TrackingFrame tracked = tracker_.Track(corrected, timestamp_s, world_from_ahat,
                                                detected.dropped, &void_test);  // ahat_from_tool
   return Place(timestamp_s, tracked, frame.world_from_rig, static_cast<int>(corrected.size()));

@@ -49,9 +49,7 @@ std::vector<TrackedFrame> TrackFrames(const AhatRecording& recording, const Ahat
         f.index = frames[p];
         f.timestamp_s = item.frame.timestamp_s();
         f.world_from_rig = item.frame.world_from_rig;
-        MarkerVoidOptions void_options;
-        if (f.ab_threshold > 0.0) void_options.ab_threshold = f.ab_threshold;
-        const MarkerVoidTest void_test(item.frame, camera, void_options);
+        const MarkerVoidTest void_test(item.frame, camera, f.ab_threshold);
         const TrackedTool tracked =
             tracker.Track(item.markers, f.timestamp_s, std::nullopt, {}, &void_test).tools[0];
         f.status = tracked.status();

@@ -84,9 +84,9 @@ struct ToolPoseResult {
 /// is then fitted to the markers it should use (FitToolMarkers: damaged and inconsistent ones
 /// left out); an unseen marker on a `dropped` blob (MarkerDetectionResult::dropped) says so.
 /// With `void_test` (the frame's images), a candidate that leaves a marker unmatched where the
-/// images show empty space in front of a far surface is refused before scoring: a wrong triangle
-/// of a four-marker plate puts its fourth marker there. Calls Check() on the options and every
-/// tool (throws std::invalid_argument).
+/// images show empty space in front of a far surface is never accepted (a wrong triangle of a
+/// four-marker plate puts its fourth marker there) but still rivals the others, so the test only
+/// takes poses away. Calls Check() on the options and every tool (throws std::invalid_argument).
 std::vector<ToolPoseResult> EstimateToolPoses(
     std::span<const DetectedMarker> detections, std::span<const ToolGeometry> tools,
     std::span<const std::optional<Rigid3d>> predicted_ahat_from_tool = {},
