@@ -24,6 +24,8 @@ void ToolTrackerOptions::Check() const {
           "ToolTrackerOptions::world_max_gap_s must be > 0");
   Require(std::isfinite(world_rate_sigma_rad_per_s) && world_rate_sigma_rad_per_s > 0.0,
           "ToolTrackerOptions::world_rate_sigma_rad_per_s must be > 0");
+  Require(std::isfinite(world_accel_sigma_rad_per_s2) && world_accel_sigma_rad_per_s2 > 0.0,
+          "ToolTrackerOptions::world_accel_sigma_rad_per_s2 must be > 0");
   Require(camera_motion_bandwidth_per_s >= 0.0 && camera_motion_baseline_s > 0.0,
           "ToolTrackerOptions: camera_motion_bandwidth_per_s must be >= 0 and "
           "camera_motion_baseline_s > 0");
@@ -40,7 +42,7 @@ ToolTracker::ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptio
   world.boost_rate_sigma_rad_per_s =
       std::min(world.boost_rate_sigma_rad_per_s, options.world_rate_sigma_rad_per_s);
   world.rotation_accel_sigma_rad_per_s2 =
-      std::min(world.rotation_accel_sigma_rad_per_s2, options.world_rate_sigma_rad_per_s);
+      std::min(world.rotation_accel_sigma_rad_per_s2, options.world_accel_sigma_rad_per_s2);
   // Only its orientation is used: the position in `world` carries the headset's SLAM drift
   // (millimetres over a gap) and must not gate a good orientation.
   world.position_sigma_mm = kWorldPositionSigmaMm;

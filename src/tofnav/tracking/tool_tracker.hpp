@@ -31,7 +31,12 @@ struct ToolTrackerOptions {
   /// ... and starts with, and boosts a large innovation by, at most this rate uncertainty: a
   /// tool fixed to the patient turns in `world` only with the patient's slow motion, so a few
   /// bad measurements cannot set it turning (a real turn is gated, then restarts the filter).
-  double world_rate_sigma_rad_per_s = 0.01;
+  double world_rate_sigma_rad_per_s = 0.003;
+  /// ... and its rate wanders with at most this white angular acceleration. Both at 0.003 (0.17
+  /// deg/s, deg/s^2) average more frames than 0.01 did: the suite's worst filtered rotation RMS
+  /// 0.42 -> 0.32 deg over 48 sessions; a tool that turns at 5 deg/s seen at 45 Hz is followed
+  /// within 0.8 deg (docs/tracking.md 1, `tofnav track`).
+  double world_accel_sigma_rad_per_s2 = 0.003;
   /// With the camera's world pose over the last camera_motion_baseline_s, a world-fixed tool
   /// moves in `ahat` at the apparent speed v the camera's motion gives it; the head's wander is
   /// smooth (sinusoids up to ~0.45 Hz), so its apparent acceleration is about this bandwidth times

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <functional>
@@ -150,6 +151,62 @@ TEST(ToolTracker, HoldsTheWorldOrientationAcrossDroppedFramesAndSlamDrift) {
                  std::to_string(std::sqrt(bridged2 / n) * 180.0 / 3.141592653589793));
   EXPECT_LT(bridged2, kMaxWorldToRawRatio * kMaxWorldToRawRatio * raw2);
   EXPECT_LT(bridged2, restarting2);
+}
+
+// A patient who turns the head: the tool turns in the world at 5 deg/s for 1.5 s between two
+// still spells, seen at 45 Hz by the turning camera with 0.5 mm marker noise (raw tilt 0.63 deg
+// RMS; the suite's reference plates: 0.46-0.62). The world filter, tuned for a still tool
+// (world_rate and world_accel 0.003), averages more frames than the looser 0.01 while the tool
+// stands still, and still follows the turn within a bound: the simulator's patients never turn,
+// so this is where that tuning's cost is measured (still: 0.19 against 0.25 deg RMS; turning:
+// 0.77 deg worst, against 0.45-0.72 per seed with 0.01).
+TEST(ToolTracker, FollowsAPatientWhoTurnsTheHeadWhileAveragingAStillTool) {
+  constexpr double kMaxTurnErrorDeg = 1.0;        // worst filtered error while and after turning
+  constexpr double kMaxStillToLooseRatio = 0.85;  // still spells: RMS against the 0.01 tuning
+  constexpr double kDegPerRad = 180.0 / 3.141592653589793;
+  constexpr double kTurnRadPerS = 5.0 / kDegPerRad;
+  ToolTrackerOptions loose_options;
+  loose_options.world_rate_sigma_rad_per_s = 0.01;
+  loose_options.world_accel_sigma_rad_per_s2 = 0.01;
+  const Rigid3d start = testing::FacingToolPose({0.0, 0.0, 450.0}, 0.3, 0.2);
+  const Eigen::Vector3d axis = Eigen::Vector3d(0.3, 1.0, 0.2).normalized();
+  double tight_still2 = 0.0, loose_still2 = 0.0, raw_still2 = 0.0, worst_turn_deg = 0.0;
+  int still = 0;
+  for (std::uint64_t seed = 1; seed <= 6; ++seed) {
+    ToolTracker tight({ReferenceTool()});
+    ToolTracker loose({ReferenceTool()}, loose_options);
+    std::mt19937_64 rng(seed);
+    for (int i = 0; i < 270; ++i) {  // 2 s still, 1.5 s turning, 2.5 s still
+      const double t = i / 45.0;
+      const double angle = kTurnRadPerS * std::clamp(t - 2.0, 0.0, 1.5);
+      const Rigid3d world_from_tool(
+          Eigen::Quaterniond(Eigen::AngleAxisd(angle, axis)) * start.rotation, start.translation);
+      const Rigid3d world_from_ahat = TurningCamera(t);
+      const Rigid3d truth = world_from_ahat.Inverse() * world_from_tool;
+      const std::vector<DetectedMarker> d =
+          testing::ToolDetections(ReferenceTool(), truth, 0.5, rng);
+      const TrackedTool a = tight.Track(d, t, world_from_ahat).tools[0];
+      const TrackedTool b = loose.Track(d, t, world_from_ahat).tools[0];
+      // Skip the warm-up and the frames whose `ahat` filter gated (no filtered pose in either).
+      if (i < 30 || !a.filtered_ahat_from_tool || !b.filtered_ahat_from_tool) continue;
+      const double error_deg = RotationDistanceRad(*a.filtered_ahat_from_tool, truth) * kDegPerRad;
+      if (t >= 2.0) worst_turn_deg = std::max(worst_turn_deg, error_deg);
+      if (t >= 2.0 && t <= 4.5) continue;
+      tight_still2 += error_deg * error_deg;
+      loose_still2 +=
+          std::pow(RotationDistanceRad(*b.filtered_ahat_from_tool, truth) * kDegPerRad, 2);
+      raw_still2 +=
+          std::pow(RotationDistanceRad(*a.measurement.ahat_from_tool, truth) * kDegPerRad, 2);
+      ++still;
+    }
+  }
+  EXPECT_GE(still, 6 * 100);
+  RecordProperty("raw_still_deg", std::to_string(std::sqrt(raw_still2 / still)));
+  RecordProperty("tight_still_deg", std::to_string(std::sqrt(tight_still2 / still)));
+  RecordProperty("loose_still_deg", std::to_string(std::sqrt(loose_still2 / still)));
+  RecordProperty("worst_turn_deg", std::to_string(worst_turn_deg));
+  EXPECT_LT(tight_still2, kMaxStillToLooseRatio * kMaxStillToLooseRatio * loose_still2);
+  EXPECT_LT(worst_turn_deg, kMaxTurnErrorDeg);
 }
 
 // The same world-fixed tool: its position in `ahat` moves with the camera at up to ~250 mm/s.
