@@ -82,9 +82,13 @@ int RunIdentify(int argc, char** argv) {
                  "the skin once through its tracked pose and measures the head surface too")
       ->check(CLI::ExistingFile);
   app.add_option("--min-reference-markers", min_reference_markers,
-                 "markers a frame's reference-tool pose needs to count (one plate of 4 is too "
-                 "imprecise at the head)")
+                 "markers a frame's reference-tool pose needs to count, or all of a tool with "
+                 "fewer (one plate of a two-plate headframe is too imprecise at the head)")
       ->check(CLI::PositiveNumber);
+  bool raw_reference_rotation = false;
+  app.add_flag("--raw-reference-rotation", raw_reference_rotation,
+               "use each frame's measured reference-tool orientation (default: smoothed in world "
+               "over the frames used, docs/correction.md 2)");
   app.add_option("--head-surface-weight", options.head_surface_weight,
                  "weight of the head samples' distances to the skin in Err_C (with "
                  "--reference-tool), relative to the markers'")
@@ -183,6 +187,7 @@ int RunIdentify(int argc, char** argv) {
     identify.exclude_tools.push_back(ReadToolFile(p));
   if (!reference_tool_path.empty()) identify.reference_tool = ReadToolFile(reference_tool_path);
   identify.min_reference_markers = min_reference_markers;
+  identify.smooth_reference_rotation = !raw_reference_rotation;
   ProgressBar progress("identify: frames", quiet || json);
   const IdentifyRecordingResult result = IdentifyFromRecording(
       *recording, camera, frf, skin ? &*skin : nullptr, identify,
@@ -215,6 +220,7 @@ int RunIdentify(int argc, char** argv) {
     out["tool_marker_observations_left_out"] = tools;
     out["frames_with_tool_markers"] = result.frames_with_tool_markers;
     out["frames_with_reference_tool"] = result.frames_with_reference_tool;
+    out["frames_reference_rotation_smoothed"] = result.frames_reference_rotation_smoothed;
     out.update(nlohmann::ordered_json{{"initial_cost_mm2", m.report.initial_cost},
                                       {"final_cost_mm2", m.report.final_cost},
                                       {"seconds", m.report.seconds},
@@ -238,7 +244,9 @@ int RunIdentify(int argc, char** argv) {
   if (!reference_tool_path.empty()) {
     std::cout << "  reference tool measured in " << result.frames_with_reference_tool << " of "
               << m.report.frames_used + m.report.frames_left_out
-              << " frames (Err_C placed the skin once through it: docs/correction.md 2)\n";
+              << " frames (Err_C placed the skin once through it: docs/correction.md 2), "
+              << result.frames_reference_rotation_smoothed
+              << " with its orientation smoothed in world\n";
   }
   if (result.reference_frame) {
     std::cout << "  skin first placed with " << 100.0 * result.icp_inlier_fraction

@@ -105,7 +105,8 @@ int RunReconstruct(int argc, char** argv) {
   bool all_markers = false;
   app.add_flag("--all-markers", all_markers,
                "fuse only frames in which every marker of the tool was matched (status ok)");
-  bool no_model_check = false, refine = false, no_pixel_gate = false, no_pose_check = false;
+  bool no_model_check = false, refine = false, no_pixel_gate = false, no_pose_check = false,
+       raw_rotation = false;
   app.add_flag("--no-model-check", no_model_check,
                "fuse every posed frame without checking it against the model fused so far");
   app.add_flag("--refine", refine,
@@ -115,6 +116,12 @@ int RunReconstruct(int argc, char** argv) {
                "fuse pixels that contradict a well-observed surface (occluders, multipath)");
   app.add_flag("--no-pose-check", no_pose_check,
                "keep frames whose world_from_tool jumps relative to their neighbours");
+  app.add_flag("--raw-rotation", raw_rotation,
+               "fuse each frame with the tool's measured orientation (default: smoothed in world "
+               "over its neighbours within --smoothing-s, docs/reconstruction.md 1.1)");
+  app.add_option("--smoothing-s", options.rotation_smoothing.half_window_s,
+                 "half window of the orientation smoothing [s]")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--model-min-weight", options.model_check.min_model_weight,
                  "checks: a voxel is part of the model from this accumulated weight");
   app.add_option("--gate-mm", options.model_check.gate_mm,
@@ -136,6 +143,7 @@ int RunReconstruct(int argc, char** argv) {
   options.model_check.refine = refine;
   options.model_check.gate_pixels = !no_pixel_gate;
   options.check_pose_consistency = !no_pose_check;
+  options.smooth_rotation = !raw_rotation;
   options.pose_consistency.max_rotation_rad = max_jump_deg * std::numbers::pi / 180.0;
   const RecordingWithCamera opened =
       OpenRecordingWithCamera(recording_path, calibration_dir, sample_offset);
@@ -180,6 +188,7 @@ int RunReconstruct(int argc, char** argv) {
         {"rejected_by_reason", rejected},
         {"frames_model_checked", r.frames_model_checked},
         {"frames_pose_checked", r.frames_pose_checked},
+        {"frames_rotation_smoothed", r.frames_rotation_smoothed},
         {"pixels_gated", r.pixels_gated},
         {"roi_min_mm", Vector(r.roi_in_tool.min())},
         {"roi_max_mm", Vector(r.roi_in_tool.max())},
@@ -216,7 +225,9 @@ int RunReconstruct(int argc, char** argv) {
     separator = ", ";
   }
   std::cout << "); " << r.frames_model_checked << " checked against the model, "
-            << r.frames_pose_checked << " over time; " << r.pixels_gated << " pixels gated\n"
+            << r.frames_pose_checked << " over time, " << r.frames_rotation_smoothed
+            << " with the tool's orientation smoothed in world; " << r.pixels_gated
+            << " pixels gated\n"
             << "  surface seen in fewer than " << r.mesh_min_weight
             << " frames left out: " << r.vertices_seldom_observed << " vertices; "
             << options.boundary_rings_removed

@@ -126,21 +126,23 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   WriteDepthModelJson(ctx.out / "depth_model.json", identified.file);
   ctx.depth_model = identified.file;
   const DepthErrorModel& m = identified.file.model;
-  stage["model"] = {{"name", m.Name()},
-                    {"C1_mm", m.c1_mm},
-                    {"C2", m.c2},
-                    {"C3_mm_per_rad", m.c3_mm},
-                    {"C4_mm", m.c4_mm},
-                    {"costs", m.report.costs},
-                    {"multipath_removed", m.multipath.enabled},
-                    {"frames", m.report.frames_used},
-                    {"frames_left_out", m.report.frames_left_out},
-                    {"marker_observations", m.report.marker_observations},
-                    {"marker_observations_rejected", m.report.marker_observations_rejected},
-                    {"marker_observations_curved", m.report.marker_observations_curved},
-                    {"tool_marker_observations_left_out", ToolMarkersLeftOut(identified)},
-                    {"frames_with_reference_tool", identified.frames_with_reference_tool},
-                    {"seconds", m.report.seconds}};
+  stage["model"] = {
+      {"name", m.Name()},
+      {"C1_mm", m.c1_mm},
+      {"C2", m.c2},
+      {"C3_mm_per_rad", m.c3_mm},
+      {"C4_mm", m.c4_mm},
+      {"costs", m.report.costs},
+      {"multipath_removed", m.multipath.enabled},
+      {"frames", m.report.frames_used},
+      {"frames_left_out", m.report.frames_left_out},
+      {"marker_observations", m.report.marker_observations},
+      {"marker_observations_rejected", m.report.marker_observations_rejected},
+      {"marker_observations_curved", m.report.marker_observations_curved},
+      {"tool_marker_observations_left_out", ToolMarkersLeftOut(identified)},
+      {"frames_with_reference_tool", identified.frames_with_reference_tool},
+      {"frames_reference_rotation_smoothed", identified.frames_reference_rotation_smoothed},
+      {"seconds", m.report.seconds}};
   stage["depth_model_json"] = "depth_model.json";
 
   const DepthEvaluation e = EvaluateDepthAgainstTruth(

@@ -2,12 +2,14 @@
 // Identification from a recording: frame preparation, two stages, the skin placed once.
 #include "tofnav/pipeline/identify.hpp"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
 
 #include "tofnav/correction/initial_pose.hpp"
 #include "tofnav/imaging/skin.hpp"
+#include "tofnav/tracking/rotation_smoothing.hpp"
 #include "tofnav/tracking/tool_tracker.hpp"
 
 namespace tofnav {
@@ -71,6 +73,29 @@ std::vector<int> BlankToolMarkers(AhatFrame& frame, const FrameMarkers& m, ToolT
   return blanked;
 }
 
+// The picked frames' reference poses (tool_from_ahat, by recording index) with their
+// orientations smoothed in `world` (tracking/rotation_smoothing.hpp); returns how many.
+std::int64_t SmoothReferenceRotations(const AhatCamera& camera, const std::vector<int>& picked,
+                                      const std::vector<std::optional<Rigid3d>>& world_from_rig,
+                                      const std::vector<double>& time_s,
+                                      const RotationSmoothingOptions& options,
+                                      std::vector<std::optional<Rigid3d>>& tool_from_ahat) {
+  std::vector<std::optional<Rigid3d>> ahat_from_tool(picked.size()), world_from_ahat(picked.size());
+  std::vector<double> times(picked.size());
+  for (std::size_t k = 0; k < picked.size(); ++k) {
+    const auto i = static_cast<std::size_t>(picked[k]);
+    times[k] = time_s[i];
+    if (tool_from_ahat[i]) ahat_from_tool[k] = tool_from_ahat[i]->Inverse();
+    if (world_from_rig[i]) world_from_ahat[k] = *world_from_rig[i] * camera.rig_from_ahat();
+  }
+  const std::size_t count = SmoothAhatRotations(ahat_from_tool, world_from_ahat, times, options);
+  for (std::size_t k = 0; k < picked.size(); ++k) {
+    if (ahat_from_tool[k])
+      tool_from_ahat[static_cast<std::size_t>(picked[k])] = ahat_from_tool[k]->Inverse();
+  }
+  return static_cast<std::int64_t>(count);
+}
+
 }  // namespace
 
 IdentifyRecordingResult IdentifyFromRecording(
@@ -86,7 +111,15 @@ IdentifyRecordingResult IdentifyFromRecording(
   std::vector<std::int64_t> left_out(options.exclude_tools.size(), 0);
   if (!options.exclude_tools.empty()) tracker.emplace(options.exclude_tools);
   if (options.reference_tool) reference.emplace(std::vector{*options.reference_tool});
+  // A headframe of one plate counts whole (docs/correction.md 2): its frames are all it has.
+  const int min_reference_markers =
+      options.reference_tool
+          ? std::min(options.min_reference_markers,
+                     static_cast<int>(options.reference_tool->markers_in_tool.size()))
+          : options.min_reference_markers;
   std::vector<std::optional<Rigid3d>> tool_from_ahat(recording.frame_count());
+  std::vector<std::optional<Rigid3d>> world_from_rig(recording.frame_count());
+  std::vector<double> time_s(recording.frame_count(), 0.0);
   std::vector<IdentificationFrame> frames = PrepareIdentificationFrames(
       picked,
       [&](int i) {
@@ -95,8 +128,10 @@ IdentifyRecordingResult IdentifyFromRecording(
         if (!tracker && !reference) return frame;
         const FrameMarkers markers = LocateCorrected(frame, camera, frf, options);
         if (reference) {
+          world_from_rig[static_cast<std::size_t>(i)] = frame.world_from_rig;
+          time_s[static_cast<std::size_t>(i)] = frame.timestamp_s();
           tool_from_ahat[static_cast<std::size_t>(i)] = ReferenceToolFromAhat(
-              markers, frame.timestamp_s(), *reference, options.min_reference_markers);
+              markers, frame.timestamp_s(), *reference, min_reference_markers);
         }
         if (tracker) {
           const std::vector<int> blanked = BlankToolMarkers(frame, markers, *tracker, options);
@@ -110,6 +145,11 @@ IdentifyRecordingResult IdentifyFromRecording(
         return frame;
       },
       camera, frf, options.sampling, progress);
+  if (reference && options.smooth_reference_rotation) {
+    result.frames_reference_rotation_smoothed =
+        SmoothReferenceRotations(camera, picked, world_from_rig, time_s,
+                                 options.reference_rotation_smoothing, tool_from_ahat);
+  }
   for (IdentificationFrame& f : frames) {
     f.tool_from_ahat = tool_from_ahat[static_cast<std::size_t>(f.index)];
     if (f.tool_from_ahat) ++result.frames_with_reference_tool;

@@ -20,6 +20,7 @@
 #include "tofnav/registration/surface_index.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_recording.hpp"
+#include "tofnav/tracking/rotation_smoothing.hpp"
 #include "tofnav/tracking/tool_geometry.hpp"
 
 namespace tofnav {
@@ -44,10 +45,16 @@ struct IdentifyRecordingOptions {
   /// skin once through it (JointCorrectnessDistances, docs/correction.md 2). Unset: Err_C
   /// registers each frame on its own (the paper).
   std::optional<ToolGeometry> reference_tool;
-  /// A frame's reference pose counts only with this many markers in it: one 4-marker plate
-  /// tilts by tenths of a degree, a millimetre at the head 200 mm away, which the model then
-  /// absorbs (measured in docs/correction.md 2). A headframe of one plate never reaches 6.
+  /// A frame's reference pose counts only with this many markers in it, or with all of them
+  /// when the tool has fewer: one plate of a two-plate headframe tilts by tenths of a degree, a
+  /// millimetre at the head 200 mm away, which the model then absorbs; a headframe of one plate
+  /// counts whole, which beats leaving the head term out (both measured in docs/correction.md 2).
   int min_reference_markers = 6;
+  /// The reference tool's orientation in each frame smoothed in `world` over its neighbours
+  /// among the frames used (docs/correction.md 2): the per-frame tilt that Err_C's head term
+  /// would take for depth error is averaged away. Frames without world_from_rig stay as measured.
+  bool smooth_reference_rotation = true;
+  RotationSmoothingOptions reference_rotation_smoothing;
   MarkerDetectionOptions detection;
   double tool_marker_margin_px = 6.0;  // beyond the blob's radius: its transitional band and more
 };
@@ -65,6 +72,7 @@ struct IdentifyRecordingResult {
   std::vector<std::pair<std::string, std::int64_t>> tool_marker_observations_left_out;
   std::int64_t frames_with_tool_markers = 0;
   std::int64_t frames_with_reference_tool = 0;  // frames whose reference-tool pose was measured
+  std::int64_t frames_reference_rotation_smoothed = 0;  // ... and smoothed in `world`
 };
 
 /// Prepares up to options.max_frames frames (markers corrected by `marker_range` when given),

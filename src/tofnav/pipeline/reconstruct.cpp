@@ -104,6 +104,7 @@ void ReconstructOptions::Check() const {
           "ReconstructOptions::min_observed_fraction must be in [0, 1]");
   model_check.Check();
   pose_consistency.Check();
+  rotation_smoothing.Check();
 }
 
 namespace {
@@ -280,6 +281,9 @@ ReconstructResult ReconstructSurface(
       });
   if (options.check_pose_consistency) {
     result.frames_pose_checked = FlagPoseJumps(camera, options, tracked);
+  }
+  if (options.smooth_rotation) {
+    result.frames_rotation_smoothed = SmoothToolRotations(camera, options, tracked);
   }
   std::vector<const TrackedFrame*> posed;
   for (const TrackedFrame& f : tracked) {

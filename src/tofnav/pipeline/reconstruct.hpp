@@ -22,6 +22,7 @@
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_recording.hpp"
 #include "tofnav/tracking/pose_consistency.hpp"
+#include "tofnav/tracking/rotation_smoothing.hpp"
 #include "tofnav/tracking/tool_pose.hpp"
 
 namespace tofnav {
@@ -106,6 +107,11 @@ struct ReconstructOptions {
   /// relative to their neighbours are left out. Needs world_from_rig in the recording.
   bool check_pose_consistency = true;
   PoseConsistencyOptions pose_consistency;
+  /// The tool's orientation smoothed in `world` over its neighbours (docs/reconstruction.md
+  /// 1.1): the fusion frame's per-frame tilt noise, which the lever arm to the head turns into
+  /// surface displacement, averaged away. Needs world_from_rig in the recording.
+  bool smooth_rotation = true;
+  RotationSmoothingOptions rotation_smoothing;
   void Check() const;  // throws PreconditionError naming the bad field
 };
 
@@ -121,12 +127,13 @@ struct ReconstructResult {
   /// "model_offset" (ModelVerdict); not in frames_skipped.
   std::size_t frames_rejected = 0;
   std::map<std::string, std::size_t> rejected_by_reason;
-  std::size_t frames_refined = 0;        // fused with the pose aligned to the model
-  std::size_t frames_model_checked = 0;  // judged against the model (the rest: too early or
-                                         // too little overlap)
-  std::size_t frames_pose_checked = 0;   // judged by the temporal check
-  std::size_t pixels_gated = 0;          // dropped by the per-pixel gate, all frames
-  std::size_t blocks = 0;                // allocated 8^3 blocks
+  std::size_t frames_refined = 0;            // fused with the pose aligned to the model
+  std::size_t frames_model_checked = 0;      // judged against the model (the rest: too early or
+                                             // too little overlap)
+  std::size_t frames_pose_checked = 0;       // judged by the temporal check
+  std::size_t frames_rotation_smoothed = 0;  // fused with the orientation smoothed in `world`
+  std::size_t pixels_gated = 0;              // dropped by the per-pixel gate, all frames
+  std::size_t blocks = 0;                    // allocated 8^3 blocks
   std::size_t mesh_vertices_before_component = 0;  // marching cubes output
   double mesh_min_weight = 0.0;  // the threshold used (min_observed_frames, _fraction)
   /// Marching-cubes vertices left out as seen in too few frames (before the component).

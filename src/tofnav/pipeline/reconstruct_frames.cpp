@@ -6,6 +6,7 @@
 
 #include "tofnav/core/frame_batches.hpp"
 #include "tofnav/tracking/pose_consistency.hpp"
+#include "tofnav/tracking/rotation_smoothing.hpp"
 #include "tofnav/tracking/tool_tracker.hpp"
 
 namespace tofnav {
@@ -96,6 +97,23 @@ std::size_t FlagPoseJumps(const AhatCamera& camera, const ReconstructOptions& op
     frames[i].pose_jump = checked[i].status == PoseConsistency::kJump;
   }
   return judged;
+}
+
+std::size_t SmoothToolRotations(const AhatCamera& camera, const ReconstructOptions& options,
+                                std::vector<TrackedFrame>& frames) {
+  std::vector<std::optional<Rigid3d>> ahat_from_tool(frames.size()), world_from_ahat(frames.size());
+  std::vector<double> time_s(frames.size());
+  for (std::size_t i = 0; i < frames.size(); ++i) {
+    const TrackedFrame& f = frames[i];
+    time_s[i] = f.timestamp_s;
+    ahat_from_tool[i] = f.ahat_from_tool;
+    if (f.world_from_rig && !f.pose_jump)
+      world_from_ahat[i] = *f.world_from_rig * camera.rig_from_ahat();
+  }
+  const std::size_t count =
+      SmoothAhatRotations(ahat_from_tool, world_from_ahat, time_s, options.rotation_smoothing);
+  for (std::size_t i = 0; i < frames.size(); ++i) frames[i].ahat_from_tool = ahat_from_tool[i];
+  return count;
 }
 
 }  // namespace tofnav

@@ -37,4 +37,10 @@ std::vector<TrackedFrame> TrackFrames(const AhatRecording& recording, const Ahat
 std::size_t FlagPoseJumps(const AhatCamera& camera, const ReconstructOptions& options,
                           std::vector<TrackedFrame>& frames);
 
+/// The posed, unjumped frames' tool orientations replaced by SmoothWorldRotations of their
+/// world_from_tool (tracking/rotation_smoothing.hpp) mapped back through the frame's own
+/// world_from_ahat; the position stays as measured. Returns the number of frames smoothed.
+std::size_t SmoothToolRotations(const AhatCamera& camera, const ReconstructOptions& options,
+                                std::vector<TrackedFrame>& frames);
+
 }  // namespace tofnav
