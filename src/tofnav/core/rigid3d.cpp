@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The one rigid transform type.
+// The one rigid transform type, and rotation vectors.
 #include "tofnav/core/rigid3d.hpp"
 
 #include <cmath>
 #include <sstream>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rotation_vector.hpp"
 
 namespace tofnav {
 
@@ -46,6 +47,17 @@ double RotationDistanceRad(const Rigid3d& a, const Rigid3d& b) {
 
 double TranslationDistanceMm(const Rigid3d& a, const Rigid3d& b) {
   return (a.translation - b.translation).norm();
+}
+
+Eigen::Vector3d RotationVector(const Eigen::Quaterniond& q) {
+  const Eigen::AngleAxisd aa(q.w() < 0.0 ? Eigen::Quaterniond(-q.coeffs()) : q);
+  return aa.angle() * aa.axis();
+}
+
+Eigen::Quaterniond FromRotationVector(const Eigen::Vector3d& rotation_vector_rad) {
+  const double angle = rotation_vector_rad.norm();
+  if (angle < 1e-12) return Eigen::Quaterniond::Identity();
+  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation_vector_rad / angle));
 }
 
 }  // namespace tofnav

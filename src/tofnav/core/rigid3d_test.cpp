@@ -7,6 +7,7 @@
 
 #include "matchers.hpp"
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rotation_vector.hpp"
 
 namespace tofnav {
 namespace {
@@ -59,6 +60,22 @@ TEST(Rigid3d, FromMatrixRejectsScalingAndReflection) {
   Eigen::Matrix4d reflected = Eigen::Matrix4d::Identity();
   reflected(2, 2) = -1.0;
   EXPECT_THROW(Rigid3d::FromMatrix(reflected), PreconditionError);
+}
+
+// The rotation vector of either quaternion sign is the short way round (angle <= pi), and
+// FromRotationVector inverts it.
+TEST(RotationVector, RoundTripsAndTakesTheShortWayRound) {
+  std::mt19937_64 rng(3);
+  for (int i = 0; i < 100; ++i) {
+    const Eigen::Quaterniond q = RandomRigid(rng).rotation;
+    const Eigen::Vector3d v = RotationVector(q);
+    EXPECT_LE(v.norm(), 3.141592653589793 + kExactRotTolRad);
+    EXPECT_EQ(RotationVector(Eigen::Quaterniond(-q.coeffs())), v);
+    EXPECT_LT(FromRotationVector(v).angularDistance(q), 1e-9);
+  }
+  const Eigen::Vector3d small(1e-13, 0.0, 0.0);
+  EXPECT_EQ(FromRotationVector(small).coeffs(), Eigen::Quaterniond::Identity().coeffs());
+  EXPECT_NEAR(RotationVector(FromRotationVector({0.0, 0.2, 0.0})).y(), 0.2, kExactRotTolRad);
 }
 
 TEST(Require, MessageNamesCallerAndReason) {

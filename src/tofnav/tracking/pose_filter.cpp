@@ -5,22 +5,12 @@
 #include <cmath>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rotation_vector.hpp"
 
 namespace tofnav {
 namespace {
 
 constexpr double kInitialRateVariance = 1e6;  // unknown velocity at (re-)initialisation
-
-Eigen::Quaterniond Exp(const Eigen::Vector3d& rotation_vector_rad) {
-  const double angle = rotation_vector_rad.norm();
-  if (angle < 1e-12) return Eigen::Quaterniond::Identity();
-  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation_vector_rad / angle));
-}
-
-Eigen::Vector3d Log(const Eigen::Quaterniond& q) {
-  const Eigen::AngleAxisd aa(q.w() < 0.0 ? Eigen::Quaterniond(-q.coeffs()) : q);
-  return aa.angle() * aa.axis();
-}
 
 }  // namespace
 
@@ -74,7 +64,7 @@ std::optional<Rigid3d> PoseFilter::Predict(double timestamp_s) const {
   if (!initialised_) return std::nullopt;
   const double dt = timestamp_s - last_s_;
   if (dt < 0.0 || dt > options_.max_gap_s) return std::nullopt;
-  return Rigid3d(Exp(angular_velocity_rad_per_s_ * dt) * rotation_,
+  return Rigid3d(FromRotationVector(angular_velocity_rad_per_s_ * dt) * rotation_,
                  position_mm_ + velocity_mm_per_s_ * dt);
 }
 
@@ -98,7 +88,8 @@ PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
   const double s_pos = pos.pp + measurement_variance_scale * sp * sp;
   const double s_rot = rot.pp + measurement_variance_scale * sr * sr;
   const Eigen::Vector3d innovation_pos = measured.translation - predicted->translation;
-  const Eigen::Vector3d innovation_rot = Log(measured.rotation * predicted->rotation.inverse());
+  const Eigen::Vector3d innovation_rot =
+      RotationVector(measured.rotation * predicted->rotation.inverse());
   const double chi2 = innovation_pos.squaredNorm() / s_pos + innovation_rot.squaredNorm() / s_rot;
   const bool beyond_floor = innovation_pos.norm() > options_.gate_floor_mm ||
                             innovation_rot.norm() > options_.gate_floor_rad;
@@ -116,7 +107,7 @@ PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
   const double kr0 = rot.pp / s_rot, kr1 = rot.pv / s_rot;
   position_mm_ = predicted->translation + kp0 * innovation_pos;
   velocity_mm_per_s_ += kp1 * innovation_pos;
-  rotation_ = (Exp(kr0 * innovation_rot) * predicted->rotation).normalized();
+  rotation_ = (FromRotationVector(kr0 * innovation_rot) * predicted->rotation).normalized();
   angular_velocity_rad_per_s_ += kr1 * innovation_rot;
   // P = (I - K H) P for H = [1 0].
   position_cov_ = {(1.0 - kp0) * pos.pp, (1.0 - kp0) * pos.pv, pos.vv - kp1 * pos.pv};

@@ -2,25 +2,16 @@
 // Local linear fit of rotations over time in the tangent space at each sample.
 #include "tofnav/tracking/rotation_smoothing.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <vector>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rotation_vector.hpp"
 
 namespace tofnav {
 namespace {
-
-Eigen::Vector3d Log(const Eigen::Quaterniond& q) {
-  const Eigen::AngleAxisd aa(q.w() < 0.0 ? Eigen::Quaterniond(-q.coeffs()) : q);
-  return aa.angle() * aa.axis();
-}
-
-Eigen::Quaterniond Exp(const Eigen::Vector3d& v) {
-  const double angle = v.norm();
-  if (angle < 1e-15) return Eigen::Quaterniond::Identity();
-  return Eigen::Quaterniond(Eigen::AngleAxisd(angle, v / angle));
-}
 
 // v(dt) = at_t + rate dt, least squares over the kept samples of a window.
 struct Line {
@@ -63,21 +54,29 @@ std::vector<std::optional<Eigen::Quaterniond>> SmoothWorldRotations(
           "SmoothWorldRotations: one time per pose is required");
   const std::size_t n = world_from_tool.size();
   std::vector<std::optional<Eigen::Quaterniond>> out(n);
-  std::size_t lo = 0;  // the window's first candidate: times ascend
+  // The posed samples in time order (a recording's frames may come out of order).
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < n; ++i) {
+    Require(std::isfinite(time_s[i]), "SmoothWorldRotations: times must be finite");
+    if (world_from_tool[i]) order.push_back(i);
+  }
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return time_s[a] < time_s[b]; });
+  std::size_t lo = 0;  // the window's first position in `order`
   std::vector<std::size_t> window;
   std::vector<Eigen::Vector3d> v;
   std::vector<bool> kept;
-  for (std::size_t i = 0; i < n; ++i) {
-    if (!world_from_tool[i]) continue;
+  for (std::size_t p = 0; p < order.size(); ++p) {
+    const std::size_t i = order[p];
     const double t = time_s[i];
-    while (lo < i && time_s[lo] < t - options.half_window_s) ++lo;
+    while (time_s[order[lo]] < t - options.half_window_s) ++lo;
     const Eigen::Quaterniond& own = world_from_tool[i]->rotation;
     const Eigen::Quaterniond own_inverse = own.conjugate();
     window.clear(), v.clear();
-    for (std::size_t j = lo; j < n && time_s[j] <= t + options.half_window_s; ++j) {
-      if (!world_from_tool[j]) continue;
-      window.push_back(j);
-      v.push_back(Log(world_from_tool[j]->rotation * own_inverse));
+    for (std::size_t q = lo; q < order.size() && time_s[order[q]] <= t + options.half_window_s;
+         ++q) {
+      window.push_back(order[q]);
+      v.push_back(RotationVector(world_from_tool[order[q]]->rotation * own_inverse));
     }
     kept.assign(window.size(), true);
     // Straight-line fit, then again without the samples farther than max_deviation_rad from the
@@ -92,7 +91,7 @@ std::vector<std::optional<Eigen::Quaterniond>> SmoothWorldRotations(
       }
     }
     if (!line || (line->at_t.norm() > options.max_deviation_rad)) continue;  // or itself a jump
-    out[i] = (Exp(line->at_t) * own).normalized();
+    out[i] = (FromRotationVector(line->at_t) * own).normalized();
   }
   return out;
 }

@@ -33,8 +33,9 @@ struct RotationSmoothingOptions {
 /// half_window_s, refitted without those beyond max_deviation_rad of the first fit: the mean for
 /// a still tool, exact for one turning at a steady rate, and without the lag of a causal filter.
 /// nullopt poses (none, or left out as a jump) are neither smoothed nor anybody's neighbour; a
-/// sample with too few in its window gets nullopt. `time_s` ascending, one per pose; throws
-/// PreconditionError on bad options or sizes.
+/// sample with too few in its window gets nullopt, and so does one beyond max_deviation_rad of
+/// its own window's line (a jump). `time_s` one per pose, finite, in any order; throws
+/// PreconditionError on bad options, sizes or times.
 std::vector<std::optional<Eigen::Quaterniond>> SmoothWorldRotations(
     std::span<const std::optional<Rigid3d>> world_from_tool, std::span<const double> time_s,
     const RotationSmoothingOptions& options = {});

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 
@@ -113,6 +114,14 @@ TEST(SmoothWorldRotations, LeavesOutJumpsMissingPosesAndLoneSamplesAndRejectsBad
   const std::vector<double> lone_t = {0.0, 1.0, 2.0};
   for (const auto& r : SmoothWorldRotations(lone, lone_t)) EXPECT_FALSE(r.has_value());
   EXPECT_TRUE(clean[0].has_value());
+  // Frames out of time order are smoothed as in order.
+  std::vector<std::optional<Rigid3d>> shuffled(s.measured.rbegin(), s.measured.rend());
+  std::vector<double> shuffled_t(s.time_s.rbegin(), s.time_s.rend());
+  const std::vector<std::optional<Eigen::Quaterniond>> reversed =
+      SmoothWorldRotations(shuffled, shuffled_t);
+  EXPECT_LT(reversed[reversed.size() - 1 - 29]->angularDistance(*left_out[29]), 1e-12);
+  shuffled_t[5] = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(SmoothWorldRotations(shuffled, shuffled_t), PreconditionError);
   const std::vector<double> short_t = {0.0};
   EXPECT_THROW(SmoothWorldRotations(s.measured, short_t), PreconditionError);
   RotationSmoothingOptions bad;
