@@ -81,16 +81,14 @@ std::vector<std::optional<Eigen::Quaterniond>> SmoothWorldRotations(
     kept.assign(window.size(), true);
     // Straight-line fit, then again without the samples farther than max_deviation_rad from the
     // first line (a jump among the neighbours would otherwise tilt them all).
-    std::optional<Line> line;
-    for (int pass = 0; pass < 2; ++pass) {
-      line = FitLine(window, v, kept, time_s, t, options.min_samples);
-      if (!line) break;
-      for (std::size_t k = 0; k < window.size(); ++k) {
-        const double dt = time_s[window[k]] - t;
-        kept[k] = (v[k] - line->at_t - line->rate * dt).norm() <= options.max_deviation_rad;
-      }
+    std::optional<Line> line = FitLine(window, v, kept, time_s, t, options.min_samples);
+    if (!line) continue;
+    for (std::size_t k = 0; k < window.size(); ++k) {
+      const double dt = time_s[window[k]] - t;
+      kept[k] = (v[k] - line->at_t - line->rate * dt).norm() <= options.max_deviation_rad;
     }
-    if (!line || (line->at_t.norm() > options.max_deviation_rad)) continue;  // or itself a jump
+    line = FitLine(window, v, kept, time_s, t, options.min_samples);
+    if (!line || line->at_t.norm() > options.max_deviation_rad) continue;  // or itself a jump
     out[i] = (FromRotationVector(line->at_t) * own).normalized();
   }
   return out;
