@@ -109,6 +109,10 @@ int RunIdentify(int argc, char** argv) {
                  "the sensor's cyclic range error A [mm] P [mm] phi [rad], held fixed "
                  "(docs/correction.md 2.2)")
       ->expected(3);
+  app.add_option("--fit-cyclic-error", options.fit_cyclic_period_mm,
+                 "fit the sensor's cyclic range error at this period [mm] (e.g. 351.7 = L / 3) "
+                 "with the coefficients: its amplitude and phase; 0: off (docs/correction.md 2.2)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--cross-validate", folds, "compare the model variants on K held-out blocks");
   app.add_option("--roi-radius-mm", sampling.segmentation.roi_radius_mm,
                  "head ROI around the markers' centroid [mm]");
@@ -211,6 +215,11 @@ int RunIdentify(int argc, char** argv) {
                                {"c2", m.c2},
                                {"c3_mm", m.c3_mm},
                                {"c4_mm", m.c4_mm},
+                               {"cyclic_error",
+                                {{"amplitude_mm", m.cyclic.amplitude_mm},
+                                 {"period_mm", m.cyclic.period_mm},
+                                 {"phase_rad", m.cyclic.phase_rad},
+                                 {"fitted", options.fit_cyclic_period_mm > 0.0}}},
                                {"costs", m.report.costs},
                                {"multipath_removed", m.multipath.enabled},
                                {"frames", m.report.frames_used}};
@@ -236,8 +245,14 @@ int RunIdentify(int argc, char** argv) {
   std::cout << "model " << m.Name() << " (" << m.report.costs << ", " << m.report.frames_used
             << " frames, " << m.report.seconds << " s)\n"
             << "  C1 = " << m.c1_mm << " mm, C2 = " << m.c2 << ", C3 = " << m.c3_mm
-            << " mm/unit, C4 = " << m.c4_mm << " mm\n"
-            << "  cost " << m.report.initial_cost << " -> " << m.report.final_cost << " mm^2\n"
+            << " mm/unit, C4 = " << m.c4_mm << " mm\n";
+  if (m.cyclic.enabled()) {
+    std::cout << "  cyclic error " << m.cyclic.amplitude_mm << " mm at period "
+              << m.cyclic.period_mm << " mm, phase " << m.cyclic.phase_rad << " rad ("
+              << (options.fit_cyclic_period_mm > 0.0 ? "fitted" : "held fixed")
+              << ", docs/correction.md 2.2)\n";
+  }
+  std::cout << "  cost " << m.report.initial_cost << " -> " << m.report.final_cost << " mm^2\n"
             << "  multipath " << (m.multipath.enabled ? "removed first" : "not removed")
             << " (docs/correction.md 7)\n";
   PrintLeftOut(m.report);

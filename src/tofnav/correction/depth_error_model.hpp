@@ -59,8 +59,9 @@ struct DepthModelFitReport {
 
 /// The sensor's cyclic (wiggling) range error, w(d) = A sin(2 pi d / P + phi) at the phase range d
 /// [mm]: harmonics of the modulation alias into a period of L / N (docs/tof_physics.md 5.4). It
-/// belongs to the sensor, not the material, so it is measured once per device, from the marker
-/// stage's f_rf (EstimateCyclicError), and held fixed in the identification. Off when A = 0.
+/// belongs to the sensor, not the material: given (held fixed) or fitted with the coefficients at
+/// a given period (IdentificationOptions::fit_cyclic_period_mm, docs/correction.md 2.2). Off
+/// when A = 0.
 struct CyclicRangeError {
   double amplitude_mm = 0.0;
   double period_mm = 0.0;

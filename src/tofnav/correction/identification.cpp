@@ -243,29 +243,44 @@ struct Fit {
   bool joint = false;        // through the reference tool, with the head surface
 };
 
-// One Levenberg-Marquardt minimisation of Eq. (7) from `start`.
+// One Levenberg-Marquardt minimisation of Eq. (7) from `start`: over the model's coefficients and,
+// with options.fit_cyclic_period_mm, the cyclic error's two components (appended).
 Fit FitOnce(std::span<const IdentificationFrame> frames, const CorrectnessTarget* target,
             const DepthErrorModel& start, const IdentificationOptions& options) {
   const CorrectnessPlan plan = PlanCorrectness(frames, target, start, options);
-  const std::vector<double> p0 = ModelParameters(start);
-  const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(p0.data(), std::ssize(p0));
+  std::vector<double> p0 = ModelParameters(start);
   const std::vector<double>& d = options.difference_steps;
-  const std::vector<double> step_values = FreeParameterValues(start, {d[0], d[1], d[2], d[3]});
+  std::vector<double> step_values = FreeParameterValues(start, {d[0], d[1], d[2], d[3]});
+  const std::size_t coefficient_count = p0.size();
+  const double period = options.fit_cyclic_period_mm;
+  if (period > 0.0) {
+    const CyclicRangeError& c = start.cyclic;
+    const bool same = c.enabled() && std::abs(c.period_mm - period) < 1e-9 * period;
+    p0.push_back(same ? c.amplitude_mm * std::cos(c.phase_rad) : 0.0);
+    p0.push_back(same ? c.amplitude_mm * std::sin(c.phase_rad) : 0.0);
+    step_values.insert(step_values.end(), 2, d[0]);
+  }
+  const Eigen::VectorXd x0 = Eigen::Map<const Eigen::VectorXd>(p0.data(), std::ssize(p0));
   const Eigen::VectorXd steps =
       Eigen::Map<const Eigen::VectorXd>(step_values.data(), std::ssize(step_values));
-  auto residuals = [&](const Eigen::VectorXd& x) {
+  auto model_of = [&](const Eigen::VectorXd& x) {
     DepthErrorModel m = start;
-    SetModelParameters(m, std::vector<double>(x.data(), x.data() + x.size()));
+    const auto n = static_cast<Eigen::Index>(coefficient_count);
+    SetModelParameters(m, std::vector<double>(x.data(), x.data() + n));
+    if (period > 0.0) {
+      m.cyclic = {std::hypot(x(n), x(n + 1)), period, std::atan2(x(n + 1), x(n))};
+    }
+    return m;
+  };
+  auto residuals = [&](const Eigen::VectorXd& x) {
+    DepthErrorModel m = model_of(x);
     if (!(m.c2 > -0.5)) m.c2 = -0.5;  // keeps Eq. (4) finite while the optimiser explores
     return Flatten(Evaluate(frames, target, plan, m, options));
   };
   Fit fit;
   fit.lm = MinimiseLeastSquares(residuals, x0, steps, options.lm);
-  fit.model = start;
+  fit.model = model_of(fit.lm.parameters);
   fit.model.report = {};
-  SetModelParameters(fit.model,
-                     std::vector<double>(fit.lm.parameters.data(),
-                                         fit.lm.parameters.data() + fit.lm.parameters.size()));
   fit.final_eval = Evaluate(frames, target, plan, fit.model, options);
   fit.correctness = !plan.frames.empty();
   fit.joint = plan.image_from_tool.has_value();
@@ -290,6 +305,9 @@ void IdentificationOptions::Check() const {
   }
   if (!(marker_group_radius_mm > 0.0)) {
     throw std::invalid_argument("IdentificationOptions: marker_group_radius_mm > 0");
+  }
+  if (!(fit_cyclic_period_mm >= 0.0) || !std::isfinite(fit_cyclic_period_mm)) {
+    throw std::invalid_argument("IdentificationOptions: fit_cyclic_period_mm finite and >= 0");
   }
   foreground.Check();
   correctness.Check();

@@ -57,8 +57,13 @@ struct IdentificationOptions {
   /// Frames whose head samples, once placed through the tool, lie farther from the skin than
   /// this (median) leave Err_C: a wrong tool pose, or no head [mm].
   double joint_frame_max_median_mm = 3.0;
+  /// Beyond the paper: when > 0, the sensor's cyclic error w(d) = A sin(2 pi d / P + phi) at
+  /// this period P [mm] is fitted with the coefficients (two more parameters: A cos phi and
+  /// A sin phi); 0 holds the start model's cyclic error fixed (docs/correction.md 2.2).
+  double fit_cyclic_period_mm = 0.0;
   LevenbergMarquardtOptions lm;
-  /// Central-difference steps of C1 [mm], C2 [1], C3 [mm per unit g], C4 [mm].
+  /// Central-difference steps of C1 [mm], C2 [1], C3 [mm per unit g], C4 [mm]; the cyclic
+  /// error's two components take C1's.
   std::vector<double> difference_steps = {0.05, 1e-4, 0.05, 0.05};
   void Check() const;  // throws std::invalid_argument naming the bad field
 };

@@ -57,6 +57,37 @@ TEST(IdentifyDepthModel, TheIntensityFormRecoversItsCoefficientsWithC2HeldAtZero
   EXPECT_LT(fitted.report.final_cost, 1e-3 * fitted.report.initial_cost);
 }
 
+TEST(IdentifyDepthModel, FitsTheSensorsCyclicErrorWithTheCoefficients) {
+  constexpr double kAmplitudeTolMm = 0.01;  // noise-free: the cubic patch fit, as above
+  constexpr double kPhaseTolRad = 0.01;
+  constexpr double kC1TolMm = 0.05;
+  constexpr double kPeriodMm = 1055.0 / 3.0;  // the simulated sensor's L / 3
+  DepthErrorModel truth = IntensityFormModel();
+  truth.c1_mm = 9.0;
+  truth.c3_mm = 2.7;
+  truth.c4_mm = 2.0;
+  truth.cyclic = {1.0, kPeriodMm, 0.5};
+  // Nine views from 350 to 750 mm: the wiggle's 1.1 periods seen by the stickers' neighbours.
+  std::vector<IdentificationFrame> frames;
+  for (int i = 0; i < 9; ++i) {
+    const Eigen::Vector3d centre = Eigen::AngleAxisd(0.1 * i - 0.4, Eigen::Vector3d::UnitX()) *
+                                   Eigen::Vector3d(10.0 * i - 40.0, 0.0, 350.0 + 50.0 * i);
+    frames.push_back(testing::SphereFrame(i, centre, truth, 8, 4.3, /*lambertian_ab=*/true));
+  }
+  IdentificationOptions options;
+  options.fit_cyclic_period_mm = kPeriodMm;
+  const DepthErrorModel fitted = IdentifyDepthModel(frames, nullptr, IntensityFormModel(), options);
+  EXPECT_NEAR(fitted.cyclic.amplitude_mm, 1.0, kAmplitudeTolMm);
+  EXPECT_NEAR(fitted.cyclic.phase_rad, 0.5, kPhaseTolRad);
+  EXPECT_DOUBLE_EQ(fitted.cyclic.period_mm, kPeriodMm);
+  EXPECT_NEAR(fitted.c1_mm, 9.0, kC1TolMm);
+  EXPECT_EQ(fitted.report.standard_errors.size(), 5u);  // C1, C3, C4, then A cos phi, A sin phi
+  // Held at none, the coefficients absorb what they can of the wiggle and leave the rest.
+  const DepthErrorModel held = IdentifyDepthModel(frames, nullptr, IntensityFormModel());
+  EXPECT_FALSE(held.cyclic.enabled());
+  EXPECT_GT(held.report.final_cost, 100.0 * fitted.report.final_cost);
+}
+
 TEST(IdentifyDepthModel, LeavesOutMarkersThatAreNotOnTheSkin) {
   constexpr double kRelTol = 0.02;  // as SmoothnessOnlyRecoversKnownCoefficients
   // A tool's marker on its plate: its surroundings carry no skin bias (frames made with the zero

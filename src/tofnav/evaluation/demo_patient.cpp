@@ -119,6 +119,9 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
     if (gain > 0.0)
       options.sampling.multipath.ab_scale = ctx.session->render.radiometry.ab_scale / gain;
     options.sampling.multipath.falloff_power = ctx.session->render.radiometry.falloff_power;
+    // The sensor's cyclic error is fitted with the coefficients at the device's period, L / N
+    // with N its phase steps: a property of the device, as K is (docs/correction.md 2.2).
+    options.identification.fit_cyclic_period_mm = ctx.session->render.sensor.wiggle_period_mm;
   }
   const IdentifyRecordingResult identified =
       IdentifyFromRecording(*s.recording, s.camera, ctx.frf, &skin, options,
@@ -132,6 +135,10 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
       {"C2", m.c2},
       {"C3_mm_per_rad", m.c3_mm},
       {"C4_mm", m.c4_mm},
+      {"cyclic_error",
+       {{"amplitude_mm", m.cyclic.amplitude_mm},
+        {"period_mm", m.cyclic.period_mm},
+        {"phase_rad", m.cyclic.phase_rad}}},
       {"costs", m.report.costs},
       {"multipath_removed", m.multipath.enabled},
       {"frames", m.report.frames_used},
