@@ -173,5 +173,40 @@ TEST(CorrectionE2e, WithMultipathTheRemovalKeepsTheHeadWithinHalfAMillimetre) {
   EXPECT_LT(std::abs(with_removal), std::abs(without_removal));
 }
 
+TEST(CorrectionE2e, TheSensorsWiggleIsFittedFromTheHeadSessionItself) {
+  // The simulated sensor adds a cyclic error of 1 mm at L / 3 (docs/tof_physics.md 5.4). Fitted
+  // with the intensity form from the session's stickers and skin (docs/correction.md 2.2), it
+  // comes out near the truth, and the head still meets the depth line.
+  constexpr double kAfterMm = 0.5;         // acceptance: <= 0.5 mm with CT
+  constexpr double kAmplitudeTolMm = 0.3;  // 60 noisy frames; the suite's heads: 0.69-1.24 mm
+  constexpr double kPhaseTolRad = 0.5;     // the suite's heads: within 0.27 rad
+  sim::Scenario scenario = sim::BuiltinScenario("head-identification");
+  scenario.render.multipath.gain = 0.0;  // this test measures the wiggle, not the removal
+  const sim::SensorOptions& sensor = scenario.render.sensor;
+  ASSERT_GT(sensor.wiggle_amplitude_mm, 0.0);
+  const SimulatedRun run = Simulate(scenario, SamplingFor(scenario));
+  IdentificationOptions options;
+  options.fit_cyclic_period_mm = sensor.wiggle_period_mm;
+  const SurfaceIndex skin(run.skin_in_image);
+  const auto identify = [&](const IdentificationOptions& o) {
+    const DepthErrorModel smooth = IdentifyDepthModel(run.frames, nullptr, IntensityFormModel(), o);
+    const InitialPoseResult pose = InitialImageFromAhat(run.frames, skin, smooth);
+    const CorrectnessTarget target{&skin, pose.image_from_ahat};
+    return IdentifyDepthModel(run.frames, &target, smooth, o);
+  };
+  const DepthErrorModel fitted = identify(options);
+  const DepthErrorModel plain = identify(IdentificationOptions{});
+  const double after_fitted = HeadErrors(run, fitted, Camera(scenario)).second;
+  const double after_plain = HeadErrors(run, plain, Camera(scenario)).second;
+  std::printf(
+      "wiggle: truth %.2f mm at %.3f rad, fitted %.2f mm at %.3f rad; head after %.2f mm "
+      "(without the wiggle %.2f mm)\n",
+      sensor.wiggle_amplitude_mm, sensor.wiggle_phase_rad, fitted.cyclic.amplitude_mm,
+      fitted.cyclic.phase_rad, after_fitted, after_plain);
+  EXPECT_NEAR(fitted.cyclic.amplitude_mm, sensor.wiggle_amplitude_mm, kAmplitudeTolMm);
+  EXPECT_NEAR(fitted.cyclic.phase_rad, sensor.wiggle_phase_rad, kPhaseTolRad);
+  EXPECT_LT(std::abs(after_fitted), kAfterMm);
+}
+
 }  // namespace
 }  // namespace tofnav
