@@ -91,6 +91,12 @@ void PrintDemoTables(const DemoJson& demo) {
                   s["model"]["name"].get<std::string>().c_str(), Number(s["model"], "C1_mm"),
                   Number(s["model"], "C2"), Number(s["model"], "C3_mm_per_rad"),
                   Number(s["model"], "C4_mm"));
+      const DemoJson& cyclic = s["model"].value("cyclic_error", DemoJson::object());
+      if (Number(cyclic, "amplitude_mm") > 0.0) {
+        std::printf("   sensor's cyclic error fitted: %.3f mm at period %.1f mm, phase %.3f rad\n",
+                    Number(cyclic, "amplitude_mm"), Number(cyclic, "period_mm"),
+                    Number(cyclic, "phase_rad"));
+      }
     }
     std::printf("   %-22s %9s %8s %6s %8s %6s %9s\n", "object", "pixels", "before", "IQR", "after",
                 "IQR", "reduction");

@@ -58,6 +58,11 @@ std::string DepthSection(const Context& c) {
       " mm/rad, C4 = " + Cell(Number(model, "C4_mm")) + " mm, from " +
       Cell(Number(stage, "frames")) +
       " frames (Eq. 3; C4 ln(AB_ref / AB) in place of C2 d in the intensity form).</p>\n";
+  if (const Json& cyclic = Field(model, "cyclic_error"); Number(cyclic, "amplitude_mm") > 0.0) {
+    s += "<p>The sensor's cyclic error, fitted with it: " + Cell(Number(cyclic, "amplitude_mm")) +
+         " mm at a period of " + Cell(Number(cyclic, "period_mm")) + " mm, phase " +
+         Cell(Number(cyclic, "phase_rad")) + " rad (docs/correction.md 2.2).</p>\n";
+  }
   std::vector<std::vector<std::string>> rows;
   if (Field(stage, "objects").is_array()) {
     for (const Json& object : Field(stage, "objects")) {
