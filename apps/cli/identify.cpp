@@ -215,14 +215,11 @@ int RunIdentify(int argc, char** argv) {
                                {"c2", m.c2},
                                {"c3_mm", m.c3_mm},
                                {"c4_mm", m.c4_mm},
-                               {"cyclic_error",
-                                {{"amplitude_mm", m.cyclic.amplitude_mm},
-                                 {"period_mm", m.cyclic.period_mm},
-                                 {"phase_rad", m.cyclic.phase_rad},
-                                 {"fitted", options.fit_cyclic_period_mm > 0.0}}},
+                               {"cyclic_error", CyclicErrorToJson(m.cyclic)},
                                {"costs", m.report.costs},
                                {"multipath_removed", m.multipath.enabled},
                                {"frames", m.report.frames_used}};
+    out["cyclic_error"]["fitted"] = options.fit_cyclic_period_mm > 0.0;
     out.update(LeftOutToJson(m.report));
     nlohmann::ordered_json tools = nlohmann::ordered_json::object();
     for (const auto& [name, count] : result.tool_marker_observations_left_out) tools[name] = count;

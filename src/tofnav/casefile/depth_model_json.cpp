@@ -319,11 +319,9 @@ std::string EncodeDepthModelJson(const DepthModelFile& file, const Json* options
         {"c4_mm", "mm per unit of ln(AB_ref / AB)"},
         {"ab_reference", "AB counts"}}}};
   json["model"]["multipath"] = MultipathToJson(m.multipath);
-  json["model"]["cyclic_error"] = {
-      {"amplitude_mm", m.cyclic.amplitude_mm},
-      {"period_mm", m.cyclic.period_mm},
-      {"phase_rad", m.cyclic.phase_rad},
-      {"equation", "w(d) = A sin(2 pi d / P + phi), removed from the measured range first"}};
+  json["model"]["cyclic_error"] = CyclicErrorToJson(m.cyclic);
+  json["model"]["cyclic_error"]["equation"] =
+      "w(d) = A sin(2 pi d / P + phi), removed from the measured range first";
   json["marker_range"] = file.marker_range ? RangeToJson(*file.marker_range) : Json();
   json["fit"] = ReportToJson(m.report);
   if (options != nullptr) json["options"] = *options;
@@ -338,6 +336,12 @@ DepthModelFile ReadDepthModelJson(const Path& path) {
 
 void WriteDepthModelJson(const Path& path, const DepthModelFile& file, const Json* options) {
   WriteFileAtomically(path, EncodeDepthModelJson(file, options));
+}
+
+Json CyclicErrorToJson(const CyclicRangeError& cyclic) {
+  return {{"amplitude_mm", cyclic.amplitude_mm},
+          {"period_mm", cyclic.period_mm},
+          {"phase_rad", cyclic.phase_rad}};
 }
 
 Json LeftOutToJson(const DepthModelFitReport& r) {

@@ -34,6 +34,10 @@ DepthModelFile ReadDepthModelJson(const std::filesystem::path& path);
 void WriteDepthModelJson(const std::filesystem::path& path, const DepthModelFile& file,
                          const nlohmann::ordered_json* options = nullptr);
 
+/// The sensor's cyclic error as every report writes it: {"amplitude_mm", "period_mm",
+/// "phase_rad"} (docs/correction.md 2.2).
+nlohmann::ordered_json CyclicErrorToJson(const CyclicRangeError& cyclic);
+
 /// What the identification left out (frames, foreground points, marker observations and each
 /// sticker's counts), as depth_model.json's "fit" and `tofnav identify --json` write it.
 nlohmann::ordered_json LeftOutToJson(const DepthModelFitReport& report);

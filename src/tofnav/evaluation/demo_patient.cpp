@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tofnav/casefile/depth_model_json.hpp"
 #include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/core/statistics.hpp"
@@ -135,10 +136,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
       {"C2", m.c2},
       {"C3_mm_per_rad", m.c3_mm},
       {"C4_mm", m.c4_mm},
-      {"cyclic_error",
-       {{"amplitude_mm", m.cyclic.amplitude_mm},
-        {"period_mm", m.cyclic.period_mm},
-        {"phase_rad", m.cyclic.phase_rad}}},
+      {"cyclic_error", CyclicErrorToJson(m.cyclic)},
       {"costs", m.report.costs},
       {"multipath_removed", m.multipath.enabled},
       {"frames", m.report.frames_used},
