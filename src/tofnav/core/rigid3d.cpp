@@ -56,7 +56,7 @@ Eigen::Vector3d RotationVector(const Eigen::Quaterniond& q) {
 
 Eigen::Quaterniond FromRotationVector(const Eigen::Vector3d& rotation_vector_rad) {
   const double angle = rotation_vector_rad.norm();
-  if (angle < 1e-12) return Eigen::Quaterniond::Identity();
+  if (angle == 0.0) return Eigen::Quaterniond::Identity();  // any other angle is exact
   return Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation_vector_rad / angle));
 }
 

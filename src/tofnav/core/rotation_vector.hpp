@@ -10,7 +10,7 @@ namespace tofnav {
 
 /// The rotation vector (axis times angle, angle in 0 .. pi) [rad] of a unit quaternion.
 Eigen::Vector3d RotationVector(const Eigen::Quaterniond& q);
-/// The unit quaternion of a rotation vector [rad] (identity below 1e-12 rad).
+/// The unit quaternion of a rotation vector [rad] (exact for every non-zero angle).
 Eigen::Quaterniond FromRotationVector(const Eigen::Vector3d& rotation_vector_rad);
 
 }  // namespace tofnav

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rotation_vector.hpp"
 #include "tofnav/fusion/tsdf_sample.hpp"
 
 namespace tofnav {
@@ -64,11 +65,7 @@ double RmsRadius(const Residuals& res, const Eigen::Vector3d& centre) {
 
 // The correction as x = (radius * rotation vector, translation of the centre) [mm].
 Rigid3d FromParameters(const Vector6d& x, const Eigen::Vector3d& centre, double radius) {
-  const Eigen::Vector3d omega = x.head<3>() / radius;
-  const double angle = omega.norm();
-  const Eigen::Quaterniond rotation =
-      angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega / angle))
-                  : Eigen::Quaterniond::Identity();
+  const Eigen::Quaterniond rotation = FromRotationVector(x.head<3>() / radius);
   return {rotation, centre + x.tail<3>() - rotation * centre};
 }
 

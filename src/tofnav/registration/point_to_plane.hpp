@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 
 #include "tofnav/core/rigid3d.hpp"
+#include "tofnav/core/rotation_vector.hpp"
 #include "tofnav/registration/pose_conditioning.hpp"
 
 namespace tofnav {
@@ -56,11 +57,7 @@ struct PointToPlaneSums {
 /// exp(delta) about `centre`, applied on the left of `pose`: x -> R(omega) (x - c) + c + v.
 inline Rigid3d UpdateOnLeft(const Vector6d& delta, const Eigen::Vector3d& centre,
                             const Rigid3d& pose) {
-  const Eigen::Vector3d omega = delta.head<3>();
-  const double angle = omega.norm();
-  const Eigen::Quaterniond turn = angle > 0.0
-                                      ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, omega / angle))
-                                      : Eigen::Quaterniond::Identity();
+  const Eigen::Quaterniond turn = FromRotationVector(delta.head<3>());
   return Rigid3d(turn, centre + delta.tail<3>() - (turn * centre)) * pose;
 }
 

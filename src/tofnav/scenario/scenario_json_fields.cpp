@@ -5,6 +5,7 @@
 #include <limits>
 #include <utility>
 
+#include "tofnav/core/rotation_vector.hpp"
 #include "tofnav/scenario/scenario_json_internal.hpp"
 
 namespace tofnav::internal {
@@ -14,11 +15,7 @@ const char* TypeName(const Json& json) { return json.type_name(); }
 
 Rigid3d RotationVectorPose(const Eigen::Vector3d& rotation_vector_rad,
                            const Eigen::Vector3d& translation_mm) {
-  const double angle = rotation_vector_rad.norm();
-  const Eigen::Quaterniond rotation =
-      angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation_vector_rad / angle))
-                  : Eigen::Quaterniond::Identity();
-  return {rotation, translation_mm};
+  return {FromRotationVector(rotation_vector_rad), translation_mm};
 }
 
 }  // namespace

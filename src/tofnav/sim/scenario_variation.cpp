@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rotation_vector.hpp"
 #include "tofnav/sim/shapes.hpp"
 
 namespace tofnav::sim {
@@ -180,8 +181,7 @@ SyntheticAhatOptions PerturbedDevice(const SyntheticAhatOptions& base, std::uint
                                  uniform(spread.rotation_rad));
   const Eigen::Vector3d translation(uniform(spread.translation_mm), uniform(spread.translation_mm),
                                     uniform(spread.translation_mm));
-  const Rigid3d delta(Eigen::Quaterniond(Eigen::AngleAxisd(rotation.norm(), rotation.normalized())),
-                      translation);
+  const Rigid3d delta(FromRotationVector(rotation), translation);
   device.rig_from_ahat = base.rig_from_ahat * delta;
   return device;
 }

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rotation_vector.hpp"
 
 namespace tofnav::sim {
 namespace {
@@ -69,11 +70,7 @@ Rigid3d JitterPose(const Rigid3d& world_from_rig, const SlamJitterOptions& optio
   Eigen::Vector3d rotation_vector, translation;
   for (int i = 0; i < 3; ++i) rotation_vector[i] = options.rotation_sigma_rad * normal(rng);
   for (int i = 0; i < 3; ++i) translation[i] = options.translation_sigma_mm * normal(rng);
-  const double angle = rotation_vector.norm();
-  const Eigen::Quaterniond rotation =
-      angle > 0.0 ? Eigen::Quaterniond(Eigen::AngleAxisd(angle, rotation_vector / angle))
-                  : Eigen::Quaterniond::Identity();
-  return world_from_rig * Rigid3d(rotation, translation);
+  return world_from_rig * Rigid3d(FromRotationVector(rotation_vector), translation);
 }
 
 }  // namespace tofnav::sim

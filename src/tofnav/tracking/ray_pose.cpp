@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rotation_vector.hpp"
 
 namespace tofnav {
 namespace {
@@ -39,8 +40,7 @@ RayPoseResult WeightedGaussNewton(std::span<const Eigen::Vector3d> markers,
     const Eigen::Matrix<double, 6, 1> step = -h.ldlt().solve(g);
     if (!step.allFinite()) break;
     const Eigen::Vector3d w = step.head<3>();
-    if (w.norm() > 0.0)
-      rotation = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * rotation;
+    rotation = FromRotationVector(w).toRotationMatrix() * rotation;
     translation += step.tail<3>();
     if (step.tail<3>().norm() + w.norm() * max_lever_mm < options.tolerance_mm) {
       result.converged = true;
