@@ -3,11 +3,14 @@
 #include "tofnav/pipeline/identify.hpp"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "commands.hpp"
 #include "config_json.hpp"
@@ -44,6 +47,12 @@ void PrintLeftOut(const DepthModelFitReport& r) {
   }
 }
 
+// The start whose ranges made the skin's first placement kept.
+std::string PlacedFrom(const IdentifyRecordingResult& r) {
+  if (r.placement_kept < 0) return "none";
+  return r.placement_candidates[static_cast<std::size_t>(r.placement_kept)].from;
+}
+
 }  // namespace
 
 int RunIdentify(int argc, char** argv) {
@@ -56,7 +65,7 @@ int RunIdentify(int argc, char** argv) {
   std::filesystem::path reference_tool_path;
   std::vector<std::filesystem::path> tool_paths;
   std::optional<double> sample_offset;
-  int max_frames = 300, folds = 0, min_reference_markers = 6;
+  int max_frames = 300, folds = 0, min_reference_markers = 6, placement_subsets = 3;
   std::optional<double> iso_hu;
   std::string angle_term = "theta";
   std::string form = "intensity";
@@ -95,6 +104,13 @@ int RunIdentify(int argc, char** argv) {
       ->check(CLI::NonNegativeNumber);
   app.add_option("--max-frames", max_frames, "frames used, evenly spread")
       ->check(CLI::PositiveNumber);
+  app.add_option("--placement-subsets", placement_subsets,
+                 "the skin's first placement also tried from stage 1 on this many frame subsets; "
+                 "0 = off (docs/correction.md 2.3)")
+      ->check([](const std::string& v) {
+        return v == "1" ? std::string("0 or at least 2") : std::string();
+      })
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--model", angle_term, "angle term: theta (paper), theta2, 1-cos");
   std::vector<double> start_values;
   app.add_option("--start", start_values,
@@ -191,6 +207,7 @@ int RunIdentify(int argc, char** argv) {
     identify.exclude_tools.push_back(ReadToolFile(p));
   if (!reference_tool_path.empty()) identify.reference_tool = ReadToolFile(reference_tool_path);
   identify.min_reference_markers = min_reference_markers;
+  identify.placement_subsets = placement_subsets;
   identify.smooth_reference_rotation = !raw_reference_rotation;
   ProgressBar progress("identify: frames", quiet || json);
   const IdentifyRecordingResult result = IdentifyFromRecording(
@@ -205,7 +222,13 @@ int RunIdentify(int argc, char** argv) {
         {"reference_frame", *result.reference_frame},
         {"icp_rmse_mm", result.icp_rmse_mm},
         {"icp_inlier_fraction", result.icp_inlier_fraction},
-        {"placed_from", result.placed_from_start_model ? "start model" : "stage-1 model"}};
+        {"placed_from", PlacedFrom(result)},
+        {"merged_through", result.placed_through_tool ? "reference tool" : "world"},
+        {"placement_candidates", nlohmann::ordered_json::array()}};
+    for (const PlacementCandidate& c : result.placement_candidates) {
+      registration_report["placement_candidates"].push_back(
+          {{"from", c.from}, {"c1_mm", c.c1_mm}, {"inlier_fraction", c.inlier_fraction}});
+    }
   }
 
   const DepthErrorModel& m = file.model;
@@ -261,11 +284,23 @@ int RunIdentify(int argc, char** argv) {
               << " with its orientation smoothed in world\n";
   }
   if (result.reference_frame) {
-    std::cout << "  skin first placed with " << 100.0 * result.icp_inlier_fraction
-              << " % of the head within the ICP's gate (RMSE " << result.icp_rmse_mm
-              << " mm; from the "
-              << (result.placed_from_start_model ? "start model's" : "stage-1 model's")
-              << " ranges)\n";
+    std::cout << "  skin first placed on head samples merged through "
+              << (result.placed_through_tool ? "the reference tool" : "world") << ", with "
+              << 100.0 * result.icp_inlier_fraction << " % of them within the ICP's gate (RMSE "
+              << result.icp_rmse_mm << " mm; from the ranges of the " << PlacedFrom(result)
+              << ", the best of " << result.placement_candidates.size()
+              << " placements: docs/correction.md 2.3)\n";
+    double lo = INFINITY, hi = -INFINITY;
+    for (const PlacementCandidate& c : result.placement_candidates) {
+      if (c.from.starts_with("stage 1")) {
+        lo = std::min(lo, c.c1_mm);
+        hi = std::max(hi, c.c1_mm);
+      }
+    }
+    if (lo <= hi) {
+      std::cout << "  stage 1 on frame subsets: C1 " << lo << " to " << hi << " mm (stage 1 on all "
+                << "frames: " << result.placement_candidates.front().c1_mm << " mm)\n";
+    }
   }
   for (const auto& [name, count] : result.tool_marker_observations_left_out) {
     std::cout << "  tool " << name << ": " << count

@@ -8,6 +8,7 @@ namespace tofnav {
 
 void InitialPoseOptions::Check() const {
   if (merged_frames < 1) throw std::invalid_argument("InitialPoseOptions::merged_frames >= 1");
+  if (min_tool_frames < 1) throw std::invalid_argument("InitialPoseOptions::min_tool_frames >= 1");
   registration.Check();
 }
 
@@ -16,10 +17,21 @@ InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> fram
                                        const DepthErrorModel& model,
                                        const InitialPoseOptions& options) {
   options.Check();
+  // Frames are merged through the reference tool where enough of them have its pose: the head is
+  // rigid with the tool, while in `world` a slowly moving patient smears the merged cloud (1 mm/s
+  // over a 13 s recording, docs/correction.md 2.3). Otherwise through the rig poses.
+  int with_tool = 0;
+  for (const IdentificationFrame& f : frames) {
+    if (f.tool_from_ahat && !f.head.empty()) ++with_tool;
+  }
+  const bool through_tool = with_tool >= options.min_tool_frames;
+  auto merged_pose = [&](const IdentificationFrame& f) {
+    return through_tool ? f.tool_from_ahat : f.world_from_ahat;
+  };
   std::vector<int> posed;
   int reference = -1;
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    if (!frames[i].world_from_ahat || frames[i].head.empty()) continue;
+    if (!merged_pose(frames[i]) || frames[i].head.empty()) continue;
     posed.push_back(static_cast<int>(i));
     if (reference < 0 ||
         frames[i].head.size() > frames[static_cast<std::size_t>(reference)].head.size()) {
@@ -30,12 +42,12 @@ InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> fram
     throw std::invalid_argument("InitialImageFromAhat: no frame has a pose and head samples");
   }
   const IdentificationFrame& ref = frames[static_cast<std::size_t>(reference)];
-  const Rigid3d ref_from_world = ref.world_from_ahat->Inverse();
+  const Rigid3d ref_from_merged = merged_pose(ref)->Inverse();
   PointCloud head_in_ref;
   for (int k : EvenSubsample(static_cast<int>(posed.size()), options.merged_frames)) {
     const IdentificationFrame& f =
         frames[static_cast<std::size_t>(posed[static_cast<std::size_t>(k)])];
-    const Rigid3d ref_from_f = ref_from_world * *f.world_from_ahat;
+    const Rigid3d ref_from_f = ref_from_merged * *merged_pose(f);
     for (const SurfaceSample& s : f.head) {
       head_in_ref.points.push_back(ref_from_f * CorrectedPoint(s, model));
     }
@@ -44,12 +56,18 @@ InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> fram
   reg.source_normals.viewpoint = Eigen::Vector3d::Zero();  // the reference camera
   InitialPoseResult out;
   out.reference_frame = reference;
+  out.through_tool = through_tool;
   out.registration = RegisterSurface(head_in_ref, skin_in_image, {}, reg);
-  const Rigid3d image_from_world = out.registration.tool_from_image.Inverse() * ref_from_world;
+  const Rigid3d image_from_ref = out.registration.tool_from_image.Inverse();
   out.image_from_ahat.resize(frames.size());
   for (std::size_t i = 0; i < frames.size(); ++i) {
-    if (frames[i].world_from_ahat)
-      out.image_from_ahat[i] = image_from_world * *frames[i].world_from_ahat;
+    const IdentificationFrame& f = frames[i];
+    if (through_tool && f.tool_from_ahat) {
+      out.image_from_ahat[i] = image_from_ref * ref_from_merged * *f.tool_from_ahat;
+    } else if (f.world_from_ahat && ref.world_from_ahat) {
+      // Without the tool's pose: through the rig poses, as good as the patient is still.
+      out.image_from_ahat[i] = image_from_ref * ref.world_from_ahat->Inverse() * *f.world_from_ahat;
+    }
   }
   return out;
 }
@@ -62,6 +80,7 @@ BestStartPlacement InitialImageFromBestStart(std::span<const IdentificationFrame
   BestStartPlacement best;
   for (std::size_t i = 0; i < starts.size(); ++i) {
     InitialPoseResult pose = InitialImageFromAhat(frames, skin_in_image, starts[i], options);
+    best.inlier_fractions.push_back(pose.registration.icp.inlier_fraction);
     if (best.start < 0 ||
         pose.registration.icp.inlier_fraction > best.pose.registration.icp.inlier_fraction) {
       best.pose = std::move(pose);

@@ -16,6 +16,9 @@ namespace tofnav {
 
 struct InitialPoseOptions {
   int merged_frames = 12;  // frames (with poses) merged into the reference frame's head cloud
+  /// With at least this many frames holding a reference-tool pose (tool_from_ahat) and head
+  /// samples, those frames are merged through the tool instead of through their rig poses.
+  int min_tool_frames = 3;
   RegisterSurfaceOptions registration;
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
@@ -24,15 +27,19 @@ struct InitialPoseResult {
   /// image_from_ahat per frame (same order), nullopt for frames without a world pose.
   std::vector<std::optional<Rigid3d>> image_from_ahat;
   int reference_frame = -1;            // index into the frames
+  bool through_tool = false;           // merged through the reference tool, not `world`
   RegisterSurfaceResult registration;  // of the reference frame (tool = its `ahat`)
 };
 
-/// The patient is static in `world` (the paper's identification set-up): the head samples of a
-/// few frames, corrected with `model`, are merged into the reference frame (the one with the
-/// most head samples) through their world_from_ahat, registered to the skin by the registration
-/// module (automatic coarse alignment + ICP) and propagated to every frame as
-/// image_from_ahat_j = image_from_world * world_from_ahat_j. Throws std::invalid_argument when
-/// no frame has a pose and head samples.
+/// The head samples of a few frames, corrected with `model`, are merged into the reference frame
+/// (the one with the most head samples), registered to the skin by the registration module
+/// (automatic coarse alignment + ICP) and propagated to every frame. With options.min_tool_frames
+/// frames holding a reference-tool pose, they are merged through it and
+/// image_from_ahat_j = image_from_tool * tool_from_ahat_j (the head is rigid with the tool, even
+/// when the patient moves); otherwise the patient is taken as static in `world` (the paper's
+/// set-up): image_from_ahat_j = image_from_world * world_from_ahat_j. Frames without the tool's
+/// pose go through `world`. Throws std::invalid_argument when no frame has a pose and head
+/// samples.
 InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> frames,
                                        const SurfaceIndex& skin_in_image,
                                        const DepthErrorModel& model,
@@ -41,7 +48,8 @@ InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> fram
 /// The placement kept among several starts.
 struct BestStartPlacement {
   InitialPoseResult pose;
-  int start = -1;  // index into the starts
+  int start = -1;                        // index into the starts
+  std::vector<double> inlier_fractions;  // each start's placement's, in order
 };
 
 /// InitialImageFromAhat from each model in `starts` (in order); keeps the placement whose ICP

@@ -57,6 +57,21 @@ struct IdentifyRecordingOptions {
   RotationSmoothingOptions reference_rotation_smoothing;
   MarkerDetectionOptions detection;
   double tool_marker_margin_px = 6.0;  // beyond the blob's radius: its transitional band and more
+  /// Beyond the paper: the skin's first placement is also made from stage 1 refitted on this many
+  /// frame subsets (subset k leaves out every frame whose position is k modulo n), and the
+  /// placement that keeps the most of the merged cloud within the ICP's finest gate is kept. The
+  /// coarse search of one merged cloud can settle in a wrong basin on a last-bit change of its
+  /// input, and stage 2 stays there (docs/correction.md 2.3). 0: stage 1's and the start
+  /// model's placements only; otherwise at least 2.
+  int placement_subsets = 3;
+};
+
+/// One candidate for the skin's first placement: the model whose ranges made it and how much of
+/// the merged cloud it kept.
+struct PlacementCandidate {
+  std::string from;  // "stage-1 model", "start model", "stage 1 without frames k mod n"
+  double c1_mm = 0.0;
+  double inlier_fraction = 0.0;
 };
 
 struct IdentifyRecordingResult {
@@ -65,8 +80,11 @@ struct IdentifyRecordingResult {
   std::optional<int> reference_frame;
   double icp_rmse_mm = 0.0;
   double icp_inlier_fraction = 0.0;
-  /// The first placement kept was the one from the start model's ranges, not stage 1's.
-  bool placed_from_start_model = false;
+  /// Every candidate placement in the order tried (stage 1, the start model, the subsets) and
+  /// the one kept (an index into them).
+  std::vector<PlacementCandidate> placement_candidates;
+  int placement_kept = -1;
+  bool placed_through_tool = false;  // frames merged through the reference tool, not `world`
   /// With exclude_tools: marker observations (a tool marker in a frame) blanked, per tool name,
   /// and the frames in which at least one was.
   std::vector<std::pair<std::string, std::int64_t>> tool_marker_observations_left_out;
