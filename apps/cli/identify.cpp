@@ -292,7 +292,7 @@ int RunIdentify(int argc, char** argv) {
               << " placements: docs/correction.md 2.3)\n";
     double lo = INFINITY, hi = -INFINITY;
     for (const PlacementCandidate& c : result.placement_candidates) {
-      if (c.from.starts_with("stage 1")) {
+      if (c.subset) {
         lo = std::min(lo, c.c1_mm);
         hi = std::max(hi, c.c1_mm);
       }

@@ -59,14 +59,17 @@ InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> fram
   out.through_tool = through_tool;
   out.registration = RegisterSurface(head_in_ref, skin_in_image, {}, reg);
   const Rigid3d image_from_ref = out.registration.tool_from_image.Inverse();
+  const Rigid3d image_from_merged = image_from_ref * ref_from_merged;
+  // Frames without the tool's pose go through the rig poses, as good as the patient is still.
+  std::optional<Rigid3d> image_from_world;
+  if (ref.world_from_ahat) image_from_world = image_from_ref * ref.world_from_ahat->Inverse();
   out.image_from_ahat.resize(frames.size());
   for (std::size_t i = 0; i < frames.size(); ++i) {
     const IdentificationFrame& f = frames[i];
     if (through_tool && f.tool_from_ahat) {
-      out.image_from_ahat[i] = image_from_ref * ref_from_merged * *f.tool_from_ahat;
-    } else if (f.world_from_ahat && ref.world_from_ahat) {
-      // Without the tool's pose: through the rig poses, as good as the patient is still.
-      out.image_from_ahat[i] = image_from_ref * ref.world_from_ahat->Inverse() * *f.world_from_ahat;
+      out.image_from_ahat[i] = image_from_merged * *f.tool_from_ahat;
+    } else if (f.world_from_ahat && image_from_world) {
+      out.image_from_ahat[i] = *image_from_world * *f.world_from_ahat;
     }
   }
   return out;

@@ -24,7 +24,7 @@ struct InitialPoseOptions {
 };
 
 struct InitialPoseResult {
-  /// image_from_ahat per frame (same order), nullopt for frames without a world pose.
+  /// image_from_ahat per frame (same order), nullopt for frames with neither pose.
   std::vector<std::optional<Rigid3d>> image_from_ahat;
   int reference_frame = -1;            // index into the frames
   bool through_tool = false;           // merged through the reference tool, not `world`

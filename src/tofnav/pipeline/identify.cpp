@@ -116,7 +116,7 @@ void AppendSubsetStarts(std::span<const IdentificationFrame> frames,
       continue;  // no marker patch left in this subset
     }
     candidates.push_back(
-        {"stage 1 without frames " + std::to_string(k) + " mod " + std::to_string(n),
+        {"stage 1 without frames " + std::to_string(k) + " mod " + std::to_string(n), true,
          starts.back().c1_mm});
   }
 }
@@ -193,13 +193,14 @@ IdentifyRecordingResult IdentifyFromRecording(
   if (skin != nullptr) {
     // The skin's first placement is a coarse search on one merged cloud: with the stage-1 model's
     // ranges it can settle in a wrong basin (ct-mirror-discs, session 17: 38 % inliers, frames
-    // 5 mm off, against 66 % from the start model; held-out mr-drift-drops, session 23: 29 %
-    // against 36 % from stage 1 on frame subsets). Every start is tried; the one that keeps the
-    // most of the cloud within the ICP's finest gate is kept (docs/correction.md 2.3).
+    // 5 mm off, against 66 % from the start model; held-out mr-drift-drops merged through
+    // `world`, session 23: 29 % against 36 % from stage 1 on a frame subset). Every start is
+    // tried; the one that keeps the most of the cloud within the ICP's finest gate is kept
+    // (docs/correction.md 2.3).
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<DepthErrorModel> starts = {model, options.start};
-    result.placement_candidates = {{"stage-1 model", model.c1_mm},
-                                   {"start model", options.start.c1_mm}};
+    result.placement_candidates = {{"stage-1 model", false, model.c1_mm},
+                                   {"start model", false, options.start.c1_mm}};
     AppendSubsetStarts(frames, options, starts, result.placement_candidates);
     BestStartPlacement placement = InitialImageFromBestStart(frames, *skin, starts);
     for (std::size_t i = 0; i < starts.size(); ++i)

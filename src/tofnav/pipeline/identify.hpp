@@ -69,7 +69,8 @@ struct IdentifyRecordingOptions {
 /// One candidate for the skin's first placement: the model whose ranges made it and how much of
 /// the merged cloud it kept.
 struct PlacementCandidate {
-  std::string from;  // "stage-1 model", "start model", "stage 1 without frames k mod n"
+  std::string from;     // "stage-1 model", "start model", "stage 1 without frames k mod n"
+  bool subset = false;  // stage 1 refitted on a frame subset
   double c1_mm = 0.0;
   double inlier_fraction = 0.0;
 };
