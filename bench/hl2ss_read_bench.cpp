@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Reading hl2ss AHAT recordings from the page cache: frames per second, and index build time.
+// Reading hl2ss AHAT recordings from the page cache: frames per second for RAW and for the
+// H.264 / H.265 profiles side by side (decoding included), and index build time.
 #include <benchmark/benchmark.h>
 #include <unistd.h>
 
@@ -13,13 +14,16 @@ namespace {
 constexpr int kFrames = 200;
 
 /// Writes (once per process) a recording of kFrames synthetic frames and returns its path.
-std::filesystem::path Recording(Hl2ssDepthProfile profile_z) {
+std::filesystem::path Recording(Hl2ssDepthProfile profile_z,
+                                Hl2ssVideoProfile profile_ab = Hl2ssVideoProfile::kRaw) {
   const auto dir = std::filesystem::temp_directory_path();
   const auto path = dir / ("tofnav_hl2ss_bench_" + std::to_string(::getpid()) + "_" +
-                           std::to_string(static_cast<int>(profile_z)) + ".bin");
+                           std::to_string(static_cast<int>(profile_z)) + "_" +
+                           std::to_string(static_cast<int>(profile_ab)) + ".bin");
   if (std::filesystem::exists(path)) return path;
   Hl2ssWriterOptions options;
   options.profile_z = profile_z;
+  options.profile_ab = profile_ab;
   Hl2ssRecordingWriter writer(path, options);
   AhatFrame frame;
   frame.range_mm = Image<std::uint16_t>(kAhatWidth, kAhatHeight);
@@ -41,8 +45,9 @@ std::filesystem::path Recording(Hl2ssDepthProfile profile_z) {
   return path;
 }
 
-void ReadAllFrames(benchmark::State& state, Hl2ssDepthProfile profile_z) {
-  const auto path = Recording(profile_z);
+void ReadAllFrames(benchmark::State& state, Hl2ssDepthProfile profile_z,
+                   Hl2ssVideoProfile profile_ab = Hl2ssVideoProfile::kRaw) {
+  const auto path = Recording(profile_z, profile_ab);
   const Hl2ssRecording recording(path);
   std::size_t bytes = 0;
   for (auto _ : state) {
@@ -58,6 +63,15 @@ void ReadAllFrames(benchmark::State& state, Hl2ssDepthProfile profile_z) {
 
 void BM_ReadSameRaw(benchmark::State& state) { ReadAllFrames(state, Hl2ssDepthProfile::kSame); }
 void BM_ReadZdepthRaw(benchmark::State& state) { ReadAllFrames(state, Hl2ssDepthProfile::kZdepth); }
+void BM_ReadZdepthH265(benchmark::State& state) {
+  ReadAllFrames(state, Hl2ssDepthProfile::kZdepth, Hl2ssVideoProfile::kH265Main);
+}
+void BM_ReadZdepthH264(benchmark::State& state) {
+  ReadAllFrames(state, Hl2ssDepthProfile::kZdepth, Hl2ssVideoProfile::kH264Main);
+}
+void BM_ReadSameH265(benchmark::State& state) {
+  ReadAllFrames(state, Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kH265Main);
+}
 
 void BM_OpenAndIndexSameRaw(benchmark::State& state) {
   const auto path = Recording(Hl2ssDepthProfile::kSame);
@@ -69,6 +83,9 @@ void BM_OpenAndIndexSameRaw(benchmark::State& state) {
 
 BENCHMARK(BM_ReadSameRaw)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ReadZdepthRaw)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ReadZdepthH265)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ReadZdepthH264)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_ReadSameH265)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_OpenAndIndexSameRaw)->Unit(benchmark::kMicrosecond);
 
 }  // namespace

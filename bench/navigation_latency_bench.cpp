@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // Latency from frame arrival to RasToWorld on a client's socket: Navigator::Process, encoding,
-// IgtlServer::Publish, loopback TCP, client parse. Frames of evd-usecase paced at 45 Hz. Argument:
-// 0 no headset display, 1 HeadsetDisplay to a fake remote scene, 2 the same server stalled.
+// IgtlServer::Publish, loopback TCP, client parse. Frames of evd-usecase paced at 45 Hz. Arguments:
+// headset 0 no headset display, 1 HeadsetDisplay to a fake remote scene, 2 the same server stalled;
+// stream 0 the decoded frame is given, 1 it arrives as a ZDEPTH+RAW packet, 2 as a ZDEPTH+H265
+// packet at the hl2ss client's default bitrate (decoding included in the latency).
 #include <benchmark/benchmark.h>
 #include <sys/socket.h>
 
@@ -17,6 +19,7 @@
 #include "navigation_e2e_case.hpp"
 #include "tofnav/stream/fake_remote_scene_server.hpp"
 #include "tofnav/stream/headset_display.hpp"
+#include "tofnav/stream/hl2ss_client.hpp"
 #include "tofnav/stream/igtl_receiver.hpp"
 #include "tofnav/stream/igtl_server.hpp"
 #include "tofnav/stream/navigation_messages.hpp"
@@ -78,6 +81,19 @@ void BM_FrameToSocketLatency(benchmark::State& state) {
   sim::Simulator simulator(c.scenario);
   std::vector<AhatFrame> frames;
   while (!simulator.done()) frames.push_back(simulator.Next().render.frame);
+  // The packets the headset would send (the first is a key frame, so the replay loop can restart).
+  const std::int64_t stream = state.range(1);
+  Hl2ssAhatConfig config;
+  config.profile_z = Hl2ssDepthProfile::kZdepth;
+  config.profile_ab = stream == 2 ? Hl2ssVideoProfile::kH265Main : Hl2ssVideoProfile::kRaw;
+  config.bitrate_bps = Hl2ssDefaultAhatBitrate(config.profile_z, config.profile_ab);
+  config.encoder_options = Hl2ssDefaultEncoderOptions(config.profile_ab);
+  std::vector<std::vector<std::uint8_t>> packets;
+  if (stream > 0) {
+    Hl2ssPacketEncoder encoder(config);
+    for (const AhatFrame& f : frames) packets.push_back(encoder.Encode(f));
+  }
+  Hl2ssVideoDecoder video(config);
   Navigator navigator(simulator.camera(), c.navigation_case);
   IgtlServer server({.port = 0});
   StampingClient client(server.port());
@@ -100,13 +116,15 @@ void BM_FrameToSocketLatency(benchmark::State& state) {
     const std::size_t k = i % frames.size();
     if (k == 0 && i > 0)
       shift_s += 1.0 + frames.back().timestamp_s() - frames.front().timestamp_s();
-    AhatFrame frame = frames[k];
-    frame.host_ticks += static_cast<std::uint64_t>(shift_s / kSecondsPerHostTick);
     ++i;
     std::this_thread::sleep_until(next_frame_at);  // 45 Hz arrival
     next_frame_at += std::chrono::microseconds(22222);
     const std::uint64_t before = client.arrivals();
     const auto arrival = Clock::now();
+    AhatFrame frame = stream == 0 ? frames[k]
+                                  : *DecodeHl2ssPacket(config, packets[k], "bench",
+                                                       stream == 2 ? &video : nullptr);
+    frame.host_ticks += static_cast<std::uint64_t>(shift_s / kSecondsPerHostTick);
     const NavigationState s = navigator.Process(frame);
     for (NamedMessage& m : EncodeNavigationFrame(s, c.navigation_case.plan)) {
       server.Publish(std::move(m.bytes));
@@ -136,10 +154,12 @@ void BM_FrameToSocketLatency(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_FrameToSocketLatency)
-    ->ArgName("headset")  // 0 off, 1 on, 2 stalled server
-    ->Arg(0)
-    ->Arg(1)
-    ->Arg(2)
+    ->ArgNames({"headset", "stream"})  // headset 0 off, 1 on, 2 stalled server; stream: above
+    ->Args({0, 0})
+    ->Args({1, 0})
+    ->Args({2, 0})
+    ->Args({0, 1})
+    ->Args({0, 2})
     ->UseManualTime()
     ->Iterations(900)
     ->Unit(benchmark::kMillisecond);

@@ -11,6 +11,8 @@ packages=(
   libgdcm-dev                                    # io/: DICOM series
   libopenigtlink-dev                             # stream/: OpenIGTLink (1.11)
   libnanoflann-dev                               # registration/: KD-tree
+  libavcodec-dev libavutil-dev                   # recording/: hl2ss H.264/H.265 AHAT (libx264/libx265)
+  python3-av                                     # tests/: the PyAV oracle for the H26x profiles
   python3-numpy python3-nibabel python3-pydicom  # tests/volume_oracle.py
   python3-dev pybind11-dev python3-pytest        # python/: bindings and their tests
   invesalius-examples mricron-data               # real head CT/MR read by tests, never committed

@@ -13,6 +13,7 @@
 
 #include "commands.hpp"
 #include "config_json.hpp"
+#include "profile_option.hpp"
 #include "progress.hpp"
 #include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/io/file.hpp"
@@ -110,6 +111,9 @@ int RunDemo(int argc, char** argv) {
                  "one-bounce multipath of the simulations: 1 realism, 0 off (the "
                  "friendlier conditions of the earlier figures, docs/demo.md)")
       ->check(CLI::Range(0.0, 1.0));
+  std::string profile = "raw";
+  std::optional<std::uint32_t> bitrate_bps;
+  AddProfileOptions(app, profile, bitrate_bps);
   app.add_flag("--json", json, "print demo.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");
   TOFNAV_PARSE(app, argc, argv);
@@ -118,6 +122,8 @@ int RunDemo(int argc, char** argv) {
   ctx.out = out;
   ctx.seed = seed;
   ctx.quiet = quiet || json;
+  ctx.stream_profile = *ParseHl2ssStreamProfile(profile);
+  ctx.bitrate_bps = bitrate_bps;
   ScaleDemoFrames(ctx, frames_scale);
   if (multipath_gain != 1.0) {
     ctx.vary_stage = ctx.vary_session = [multipath_gain](sim::Scenario& s) {

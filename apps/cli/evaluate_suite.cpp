@@ -13,6 +13,7 @@
 
 #include "config_json.hpp"
 #include "evaluate.hpp"
+#include "profile_option.hpp"
 #include "tofnav/core/statistics.hpp"
 #include "tofnav/evaluation/suite_case.hpp"
 #include "tofnav/io/file.hpp"
@@ -56,8 +57,9 @@ void PrintRow(const SuiteJson& row) {
 SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
   SuiteJson summary = SuiteJson::object();
   std::size_t refused = 0, failed = 0, all_met = 0;
-  for (const char* key : {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm",
-                          "beyond_3mm_percent", "true_tre_mm", "entry_mm", "angle_deg", "wall_s"}) {
+  for (const char* key :
+       {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm", "beyond_3mm_percent",
+        "true_tre_mm", "entry_mm", "angle_deg", "stream_mbit_s", "wall_s"}) {
     std::vector<double> values;
     for (const SuiteJson& r : rows) {
       if (r.contains(key) && r.at(key).is_number() && !std::isnan(r.at(key).get<double>())) {
@@ -102,7 +104,11 @@ int RunEvaluateSuite(int argc, char** argv) {
       ->check(CLI::Range(0.05, 20.0));
   app.add_flag("--json", json, "print suite.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no per-case progress lines on stderr");
+  std::string profile = "raw";
+  std::optional<std::uint32_t> bitrate_bps;
+  AddProfileOptions(app, profile, bitrate_bps);
   TOFNAV_PARSE(app, argc, argv);
+  const Hl2ssStreamProfile stream_profile = *ParseHl2ssStreamProfile(profile);
   const std::filesystem::path path = SuitePath(suite_name);
   const SuiteFile suite = ReadSuiteFile(path);
   const double scale = frames_scale.value_or(suite.frames_scale);
@@ -126,7 +132,7 @@ int RunEvaluateSuite(int argc, char** argv) {
     if (!wanted.empty() && !wanted.count(c.name)) continue;
     ++index;
     if (!quiet) std::cerr << "suite: " << c.name << " (" << index << ") ..." << std::endl;
-    rows.push_back(RunSuiteCase(c, scale, out / c.name, true));
+    rows.push_back(RunSuiteCase(c, scale, out / c.name, true, stream_profile, bitrate_bps));
     if (!json) {
       PrintRow(rows.back());
       std::fflush(stdout);
@@ -138,6 +144,7 @@ int RunEvaluateSuite(int argc, char** argv) {
                    {"name", suite.name},
                    {"suite_file", path.string()},
                    {"frames_scale", scale},
+                   {"stream_profile", Hl2ssStreamProfileName(stream_profile)},
                    {"elapsed_s", elapsed_s},
                    {"summary", SuiteSummary(rows)},
                    {"rows", rows}};

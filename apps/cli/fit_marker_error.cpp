@@ -14,6 +14,7 @@
 #include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/pipeline/marker_tasks.hpp"
+#include "tofnav/recording/open_recording.hpp"
 
 namespace tofnav {
 
@@ -47,6 +48,9 @@ int RunFitMarkerError(int argc, char** argv) {
   app.add_option("--split-jump-mm", jump_mm,
                  "a structure jump larger than this between frames starts a new run [mm]");
   app.add_option("--min-frames", stage_options.min_frames, "posed frames a run needs");
+  bool allow_lossy_depth = false;
+  app.add_flag("--allow-lossy-depth", allow_lossy_depth,
+               "use SAME+H26x depth (4 mm steps, lossy) anyway (docs/ahat.md 3.6.5)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
   TOFNAV_PARSE(app, argc, argv);
@@ -69,6 +73,7 @@ int RunFitMarkerError(int argc, char** argv) {
   for (const std::filesystem::path& recording : recordings) {
     source_args.recording = recording;
     const MarkerSource source = OpenMarkerSource(source_args);
+    RefuseLossyDepth(*source.recording, recording, allow_lossy_depth);
     ProgressBar progress("fit-marker-error " + recording.filename().string(), quiet || json);
     const StageSamples stage = CollectStageSamples(
         source, source_args.detection, structure, sample_options,

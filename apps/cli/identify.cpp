@@ -164,6 +164,9 @@ int RunIdentify(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_flag("--multipath-damped,!--multipath-undamped", sampling.multipath.damped,
                "multipath: damped fixed point, each pass from the mean of the last two (default)");
+  bool allow_lossy_depth = false;
+  app.add_flag("--allow-lossy-depth", allow_lossy_depth,
+               "use SAME+H26x depth (4 mm steps, lossy) anyway (docs/ahat.md 3.6.5)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the result as JSON");
   TOFNAV_PARSE(app, argc, argv);
@@ -171,6 +174,7 @@ int RunIdentify(int argc, char** argv) {
 
   const AhatCamera camera(ReadHl2ssCalibration(calibration_path, sample_offset));
   const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
+  RefuseLossyDepth(*recording, recording_path, allow_lossy_depth);
   std::optional<MarkerRangeModel> frf;
   if (!frf_path.empty()) frf = ReadMarkerRangeJson(frf_path).model;
   DepthErrorModel start;

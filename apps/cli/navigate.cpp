@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "config_json.hpp"
 #include "navigate_live.hpp"
+#include "profile_option.hpp"
 #include "stop_signal.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/casefile/markups_read.hpp"
@@ -97,7 +98,8 @@ int RunNavigate(int argc, char** argv) {
   std::filesystem::path calibration, tool_path, registration, plan_path, instrument_path, out;
   std::filesystem::path marker_error_path;
   std::filesystem::path skin_path, surface_path;
-  std::string trajectory, bind = "127.0.0.1", profile = "raw", hololens;
+  std::string trajectory, bind = "127.0.0.1", profile = "zdepth+h265", hololens;
+  std::optional<std::uint32_t> bitrate_bps;
   int igtl_port = 18944;
   bool realtime = false, loop = false, quiet = false, json = false, no_igtl = false;
   double duration_s = 0.0;
@@ -123,8 +125,7 @@ int RunNavigate(int argc, char** argv) {
   app.add_option("--hololens", hololens,
                  "show the plan on the headset: hl2ss remote Unity scene HOST[:PORT] (3816)");
   app.add_option("--sample-offset", sample_offset, "calibration table sample offset (0 or 0.5)");
-  app.add_option("--profile", profile, "live depth profile: raw or zdepth")
-      ->check(CLI::IsMember({"raw", "zdepth"}));
+  AddProfileOptions(app, profile, bitrate_bps);
   app.add_flag("--realtime", realtime, "replay a recording at its recorded pace");
   app.add_flag("--loop", loop, "replay a recording again and again (soak tests)");
   app.add_option("--duration-s", duration_s, "stop after this wall time [s] (0: at the end)");
@@ -236,16 +237,22 @@ int RunNavigate(int argc, char** argv) {
   LiveHl2ssSource* live = nullptr;
   if (endpoint) {
     // Link down: say so, one CSV row per change, NavigationStatus NO_STREAM and no transform.
-    auto live_source = MakeLiveSource(*endpoint, profile, link, std::move(device_calibration),
-                                      &stop, [&](const LinkReport& r) {
-                                        ReportLink(r, status_line);
-                                        if (r.up) return;
-                                        const NavigationState s = NoStreamState(last, r.down_s);
-                                        if (csv && r.changed)
-                                          csv->Write(NavigationCsvRow(s, c.plan));
-                                        if (server) PublishNavigationState(*server, s, navigator);
-                                        on_frame(s);
-                                      });
+    const Hl2ssStreamProfile stream_profile = *ParseHl2ssStreamProfile(profile);
+    if (stream_profile.profile_z == Hl2ssDepthProfile::kSame &&
+        stream_profile.profile_ab != Hl2ssVideoProfile::kRaw) {
+      std::fprintf(stderr, "tofnav navigate: warning: %s\n",
+                   LossyDepthWarning(stream_profile).c_str());
+    }
+    auto live_source =
+        MakeLiveSource(*endpoint, stream_profile, bitrate_bps, link, std::move(device_calibration),
+                       &stop, [&](const LinkReport& r) {
+                         ReportLink(r, status_line);
+                         if (r.up) return;
+                         const NavigationState s = NoStreamState(last, r.down_s);
+                         if (csv && r.changed) csv->Write(NavigationCsvRow(s, c.plan));
+                         if (server) PublishNavigationState(*server, s, navigator);
+                         on_frame(s);
+                       });
     live = live_source.get();
     source = std::move(live_source);
   }
@@ -268,7 +275,11 @@ int RunNavigate(int argc, char** argv) {
                                  {"reference_lost", stats.reference_lost},
                                  {"no_world_pose", stats.no_world_pose},
                                  {"duration_s", stats.last_timestamp_s - stats.first_timestamp_s},
-                                 {"dropped", DroppedJson(stats)}};
+                                 {"dropped", DroppedJson(stats)},
+                                 {"low_rate_frames", stats.low_rate_frames}};
+  if (stats.first_low_rate_s) {
+    summary["first_low_rate_after_s"] = *stats.first_low_rate_s - stats.first_timestamp_s;
+  }
   if (server) {
     const IgtlServerStats s = server->stats();
     summary["igtl"] = {{"port", server->port()},
@@ -295,6 +306,11 @@ int RunNavigate(int argc, char** argv) {
               << stats.holding << " holding, " << stats.reference_lost << " reference lost, "
               << stats.no_world_pose << " without head pose\n";
     PrintDropped(stats);
+    if (stats.low_rate_frames > 0) {
+      std::cout << stats.low_rate_frames
+                << " frames at LOW_RATE (under 15 Hz for over 1 s: the headset's camera throttles "
+                   "without a hand in view)\n";
+    }
   }
   return live != nullptr && !live->failure().empty() && !signals.signalled() && !timed_out
              ? kExitGaveUp

@@ -8,15 +8,25 @@
 namespace tofnav {
 
 std::unique_ptr<LiveHl2ssSource> MakeLiveSource(
-    const Hl2ssEndpoint& endpoint, const std::string& profile, const LiveLinkOptions& options,
+    const Hl2ssEndpoint& endpoint, const Hl2ssStreamProfile& profile,
+    std::optional<std::uint32_t> bitrate_bps, const LiveLinkOptions& options,
     std::optional<std::vector<std::uint8_t>> device_calibration, const std::atomic<bool>* stop,
     LiveHl2ssSource::OnReport on_report) {
   Hl2ssAhatConfig config;
-  config.profile_z = profile == "zdepth" ? Hl2ssDepthProfile::kZdepth : Hl2ssDepthProfile::kSame;
-  config.bitrate_bps = Hl2ssDefaultAhatBitrate(config.profile_z, Hl2ssVideoProfile::kRaw);
-  config.encoder_options = {{10, 1}};
+  config.profile_z = profile.profile_z;
+  config.profile_ab = profile.profile_ab;
+  config.bitrate_bps =
+      bitrate_bps.value_or(Hl2ssDefaultAhatBitrate(config.profile_z, config.profile_ab));
+  config.encoder_options = Hl2ssDefaultEncoderOptions(config.profile_ab);
   return std::make_unique<LiveHl2ssSource>(endpoint, config, options, std::move(device_calibration),
                                            std::move(on_report), stop);
+}
+
+std::string LossyDepthWarning(const Hl2ssStreamProfile& profile) {
+  return Hl2ssStreamProfileName(profile) +
+         " sends depth in 4 mm steps with codec noise (wrapping above 1023 mm) and AB at half "
+         "resolution: tracking is less accurate than on zdepth+h265, which costs the same Wi-Fi "
+         "(docs/ahat.md 3.6.5)";
 }
 
 void ReportLink(const LinkReport& report, bool status_line) {
@@ -28,7 +38,8 @@ void ReportLink(const LinkReport& report, bool status_line) {
 nlohmann::ordered_json LinkSummary(const LiveLinkStats& stats) {
   return {{"disconnects", stats.disconnects},       {"stalls", stats.stalls},
           {"reconnects", stats.reconnects},         {"failed_attempts", stats.failed_attempts},
-          {"seconds_without_stream", stats.down_s}, {"longest_gap_s", stats.longest_down_s}};
+          {"seconds_without_stream", stats.down_s}, {"longest_gap_s", stats.longest_down_s},
+          {"dropped_frames", stats.dropped_frames}};
 }
 
 }  // namespace tofnav

@@ -101,6 +101,9 @@ int RunReconstruct(int argc, char** argv) {
   app.add_option("--first-frame", options.first_frame);
   app.add_option("--every", options.frame_step, "fuse every n-th frame");
   app.add_option("--max-frames", max_frames, "consider at most N frames (after --every)");
+  bool allow_lossy_depth = false;
+  app.add_flag("--allow-lossy-depth", allow_lossy_depth,
+               "use SAME+H26x depth (4 mm steps, lossy) anyway (docs/ahat.md 3.6.5)");
   app.add_flag("--all-components", all_components, "keep every connected component");
   bool all_markers = false;
   app.add_flag("--all-markers", all_markers,
@@ -148,6 +151,7 @@ int RunReconstruct(int argc, char** argv) {
   const RecordingWithCamera opened =
       OpenRecordingWithCamera(recording_path, calibration_dir, sample_offset);
   const AhatRecording& recording = *opened.recording;
+  RefuseLossyDepth(recording, recording_path, allow_lossy_depth);
   const AhatCamera& camera = *opened.camera;
   bool multipath_removed = false;  // the depth model says (docs/correction.md 7)
   if (!depth_model_path.empty()) {

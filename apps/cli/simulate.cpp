@@ -13,6 +13,7 @@
 
 #include "commands.hpp"
 #include "config_json.hpp"
+#include "profile_option.hpp"
 #include "progress.hpp"
 #include "tofnav/scenario/patient_head.hpp"
 #include "tofnav/scenario/scenario_json.hpp"
@@ -32,8 +33,7 @@ int RunSimulate(int argc, char** argv) {
   std::optional<std::uint64_t> seed;
   bool quiet = false, json = false, list = false;
   SimulateOptions options;
-  const std::map<std::string, Hl2ssDepthProfile> profiles = {
-      {"raw", Hl2ssDepthProfile::kSame}, {"zdepth", Hl2ssDepthProfile::kZdepth}};
+  std::string profile = "raw";
   app.add_option("scenario", scenario_name, "scenario .json file or built-in name (see --list)");
   app.add_option("--out", out_dir, "output folder (created if missing)");
   std::string head;
@@ -42,8 +42,7 @@ int RunSimulate(int argc, char** argv) {
                  "(e.g. ct:/usr/share/doc/invesalius-examples/examples/Cranium.inv3)");
   app.add_option("--frames", frames, "render only the first N frames")->check(CLI::PositiveNumber);
   app.add_option("--seed", seed, "random seed (unset: the scenario's)");
-  AddEnumOption(app, "--profile", options.profile, profiles,
-                "depth profile of the recording: raw or zdepth");
+  AddProfileOptions(app, profile, options.bitrate_bps);
   app.add_flag("--truth-depth", options.truth_depth,
                "also write truth_range_f32.bin (true first-hit range per pixel, float32 mm)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
@@ -76,6 +75,7 @@ int RunSimulate(int argc, char** argv) {
   }
   options.frames = frames;
   options.seed = seed;
+  options.profile = *ParseHl2ssStreamProfile(profile);
   ProgressBar progress("simulate " + scenario.name, quiet || json);
   options.progress = [&](std::size_t done, std::size_t total) { progress.Update(done, total); };
   const std::string name = scenario.name;

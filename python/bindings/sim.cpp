@@ -12,10 +12,10 @@
 namespace tofnav::python {
 namespace {
 
-Hl2ssDepthProfile ProfileFromString(const std::string& profile) {
-  if (profile == "raw") return Hl2ssDepthProfile::kSame;
-  if (profile == "zdepth") return Hl2ssDepthProfile::kZdepth;
-  throw py::value_error("profile must be 'raw' or 'zdepth', not '" + profile + "'");
+Hl2ssStreamProfile ProfileFromString(const std::string& profile) {
+  if (const auto parsed = ParseHl2ssStreamProfile(profile)) return *parsed;
+  throw py::value_error("profile must be one of " + Hl2ssStreamProfileChoices() + ", not '" +
+                        profile + "'");
 }
 
 py::dict Simulate(const std::string& scenario, const std::filesystem::path& out_dir,

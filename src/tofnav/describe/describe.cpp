@@ -16,6 +16,7 @@
 #include "tofnav/io/io_error.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/hl2ss_format.hpp"
 #include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/recording/open_recording.hpp"
 #include "tofnav/recording/stream_recorder.hpp"
@@ -137,14 +138,22 @@ Json RecordingJson(const AhatRecording& recording, const DescribeOptions& option
   out["timing"] = TimingJson(recording);
   if (const auto* hl2ss = dynamic_cast<const Hl2ssRecording*>(&recording)) {
     const Hl2ssAhatConfig& config = hl2ss->config();
-    out["hl2ss"] = Json{{"mode", config.mode},
-                        {"divisor", config.divisor},
-                        {"profile_z", static_cast<int>(config.profile_z)},
-                        {"profile_ab", static_cast<int>(config.profile_ab)},
-                        {"bitrate_bps", config.bitrate_bps},
-                        {"user", std::string(hl2ss->user_data().begin(), hl2ss->user_data().end())},
-                        {"skipped_empty_packets", hl2ss->skipped_empty_packets()},
-                        {"truncated_tail", hl2ss->truncated_tail()}};
+    out["hl2ss"] = Json{
+        {"mode", config.mode},
+        {"divisor", config.divisor},
+        {"profile_z", static_cast<int>(config.profile_z)},
+        {"profile_ab", static_cast<int>(config.profile_ab)},
+        {"profile", Hl2ssProfileName(config)},
+        {"bitrate_bps", config.bitrate_bps},
+        {"gop_frames", Hl2ssGopFrames(config)},
+        {"measured_stream_mbit_s", (hl2ss->ab_bitrate_bps() + hl2ss->zdepth_bitrate_bps()) * 1e-6},
+        {"user", std::string(hl2ss->user_data().begin(), hl2ss->user_data().end())},
+        {"skipped_empty_packets", hl2ss->skipped_empty_packets()},
+        {"truncated_tail", hl2ss->truncated_tail()}};
+    if (config.profile_ab != Hl2ssVideoProfile::kRaw) {
+      out["hl2ss"]["measured_gop_frames"] = hl2ss->measured_gop_frames();
+      out["hl2ss"]["measured_video_mbit_s"] = hl2ss->ab_bitrate_bps() * 1e-6;
+    }
   }
   if (const auto* capture = dynamic_cast<const StreamRecorderCapture*>(&recording)) {
     out["stream_recorder"] = Json{{"unpaired_frames", capture->report().unpaired_frames},

@@ -75,6 +75,8 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   const std::filesystem::path dir = ctx.out / "stage";
   SimulateOptions simulate;
   simulate.seed = ctx.seed;
+  simulate.profile = ctx.stream_profile;
+  simulate.bitrate_bps = ctx.bitrate_bps;
   simulate.progress = [&](std::size_t d, std::size_t t) { ctx.progress("simulate stage", d, t); };
   const SimulateResult simulated = RunSimulation(scenario, dir, simulate);
 

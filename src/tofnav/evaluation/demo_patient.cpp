@@ -17,6 +17,8 @@
 #include "tofnav/pipeline/identify.hpp"
 #include "tofnav/pipeline/reconstruct_correction.hpp"
 #include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/hl2ss_format.hpp"
+#include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/recording/open_recording.hpp"
 #include "tofnav/scenario/simulate.hpp"
 #include "tofnav/scenario/truth_json.hpp"
@@ -86,6 +88,8 @@ void RunDemoSession(DemoContext& ctx, DemoJson& stage) {
   options.frames = ctx.session_frames;
   options.seed = ctx.seed;
   options.truth_depth = true;
+  options.profile = ctx.stream_profile;
+  options.bitrate_bps = ctx.bitrate_bps;
   options.progress = [&](std::size_t d, std::size_t t) { ctx.progress("simulate session", d, t); };
   const SimulateResult r = RunSimulation(scenario, ctx.session_dir, options);
   scenario.frames = r.frames;
@@ -94,6 +98,12 @@ void RunDemoSession(DemoContext& ctx, DemoJson& stage) {
   stage["frames"] = r.frames;
   stage["dropped_slots"] = r.dropped_slots;
   stage["recording_duration_s"] = r.duration_s;
+  {
+    const Hl2ssRecording recorded(ctx.session_dir / "rm_depth_ahat.bin");
+    stage["stream_profile"] = Hl2ssProfileName(recorded.config());
+    // At the headset's 45 Hz (the session renders every n-th slot): bytes per frame x 45.
+    stage["stream_mbit_s"] = recorded.payload_bytes_per_frame() * 8.0 * 45.0 * 1e-6;
+  }
   stage["recording"] = "session/rm_depth_ahat.bin";
   stage["truth"] = "session/truth.json";
   stage["ct"] = "session/ct.nrrd";

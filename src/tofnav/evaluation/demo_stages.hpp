@@ -13,6 +13,7 @@
 #include "tofnav/core/rigid3d.hpp"
 #include "tofnav/core/triangle_mesh.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
 #include "tofnav/sim/patient.hpp"
@@ -34,6 +35,10 @@ struct DemoContext {
   std::int64_t session_slot_stride = 1;  // every n-th slot of the session's motion is rendered
   int depth_eval_frames = 24;            // frames of the depth evaluation (ray cast truth labels)
   std::function<void(const std::string&, std::size_t, std::size_t)> progress;
+  /// The hl2ss profile every simulated recording is written in (the stream the pipeline reads):
+  /// SAME+RAW by default; H.264/H.265 at `bitrate_bps` (unset: the hl2ss client's default).
+  Hl2ssStreamProfile stream_profile{Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kRaw};
+  std::optional<std::uint32_t> bitrate_bps;
   /// Applied to the built-in scenarios before they are simulated (the robustness suite's
   /// variations: docs/suite.md); unset, the demo's own scenarios.
   std::function<void(sim::Scenario&)> vary_stage, vary_session;

@@ -117,7 +117,8 @@ std::string RegistrationDecision(const SuiteJson& stage) {
 }  // namespace
 
 SuiteJson RunSuiteCase(const SuiteCase& c, double frames_scale, const std::filesystem::path& dir,
-                       bool quiet) {
+                       bool quiet, const Hl2ssStreamProfile& stream_profile,
+                       std::optional<std::uint32_t> bitrate_bps) {
   const auto start = std::chrono::steady_clock::now();
   SuiteJson row{{"name", c.name}, {"ok", true}, {"error", ""}};
   std::filesystem::create_directories(dir);
@@ -125,6 +126,8 @@ SuiteJson RunSuiteCase(const SuiteCase& c, double frames_scale, const std::files
   ctx.out = dir;
   ctx.seed = c.seed;
   ctx.quiet = quiet;
+  ctx.stream_profile = stream_profile;
+  ctx.bitrate_bps = bitrate_bps;
   ctx.progress = [](const std::string&, std::size_t, std::size_t) {};
   ScaleDemoFrames(ctx, frames_scale);
   try {
@@ -148,6 +151,7 @@ SuiteJson RunSuiteCase(const SuiteCase& c, double frames_scale, const std::files
         row["error"] = name + ": " + stage.at("error").get<std::string>();
       }
     }
+    row["stream_mbit_s"] = Num(At(stages, "session"), "stream_mbit_s");
     TrackingFigures(At(stages, "tracking"), row);
     row["depth_after_mm"] = HeadDepthAfterMm(At(stages, "depth"));
     const SuiteJson& rec = At(stages, "reconstruction");

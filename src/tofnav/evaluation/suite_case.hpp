@@ -6,9 +6,11 @@
 #include <cstdint>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/sim/scenario_variation.hpp"
 
 namespace tofnav {
@@ -40,8 +42,13 @@ SuiteFile ReadSuiteFile(const std::filesystem::path& path);
 /// Simulates and runs the case's sessions through the whole pipeline under `dir` (the demo's
 /// stages, docs/demo.md) and returns its row: {"name", "ok", "error", figures..., "stages"}.
 /// `progress` gets a label and a fraction for each step.
+/// The recordings are written in `stream_profile` at `bitrate_bps` (unset: the hl2ss client's
+/// default).
 SuiteJson RunSuiteCase(const SuiteCase& c, double frames_scale, const std::filesystem::path& dir,
-                       bool quiet);
+                       bool quiet,
+                       const Hl2ssStreamProfile& stream_profile = {Hl2ssDepthProfile::kSame,
+                                                                   Hl2ssVideoProfile::kRaw},
+                       std::optional<std::uint32_t> bitrate_bps = std::nullopt);
 
 /// The acceptance lines of the outlier-proof pipeline (docs/suite.md) for one row: each
 /// {figure, value, op, limit, met}.

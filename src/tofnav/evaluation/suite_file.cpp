@@ -42,6 +42,7 @@ void ReadCase(JsonFields& in, SuiteCase& c) {
   in.Read("head_drift_mm_per_s", v.head_drift_mm_per_s);
   in.Read("drop_probability", v.drop_probability);
   in.Read("mean_drop_slots", v.mean_drop_slots);
+  in.Read("no_hand_rate_hz", v.no_hand_rate_hz);
   in.Read("slam_translation_sigma_mm", v.slam_translation_sigma_mm);
   in.Read("slam_rotation_sigma_rad", v.slam_rotation_sigma_rad);
 }

@@ -72,6 +72,10 @@ struct NavigationState {
   ToolStatus reference_status = ToolStatus::kOutOfView;  // this frame's measurement
   double reference_age_s = 0.0;  // since the reference was last measured (infinity: never)
   double stream_down_s = 0.0;    // kNoStream: since the last frame arrived
+  /// Set by stream/ (RunNavigationSession): frames per second received over the last second, and
+  /// LOW_RATE: every frame interval has been longer than 1/15 s for over 1 s (FrameRateMonitor).
+  double received_rate_hz = 0.0;
+  bool low_rate = false;
   int detected_markers = 0;
   /// The reference was measured, but its world pose jumped from its recent ones: left out
   /// (ahat_from_tool empty), and the pose check's deviation.

@@ -2,8 +2,11 @@
 // hl2ss AHAT file constants and payload layout detection, shared by the reader and the writer.
 #include "tofnav/recording/hl2ss_format.hpp"
 
+#include <algorithm>
 #include <cstring>
+#include <utility>
 
+#include "tofnav/core/require.hpp"
 #include "tofnav/io/io_error.hpp"
 
 namespace tofnav {
@@ -52,8 +55,99 @@ std::uint32_t Hl2ssDefaultAhatBitrate(Hl2ssDepthProfile profile_z, Hl2ssVideoPro
   } else if (profile_ab != Hl2ssVideoProfile::kRaw) {
     factor = 1.0 / 75.0;
   }
-  const double same_factor = profile_z == Hl2ssDepthProfile::kSame ? 16.0 : 1.0;
-  return static_cast<std::uint32_t>(512.0 * 512.0 * 45.0 * 12.0 * factor * same_factor);
+  // The client truncates the one-picture rate to an integer, then multiplies by 16 in SAME mode.
+  const auto bitrate = static_cast<std::uint32_t>(512.0 * 512.0 * 45.0 * 12.0 * factor);
+  return profile_z == Hl2ssDepthProfile::kSame ? 16 * bitrate : bitrate;
+}
+
+namespace {
+
+constexpr std::pair<Hl2ssVideoProfile, const char*> kVideoNames[] = {
+    {Hl2ssVideoProfile::kRaw, "raw"},
+    {Hl2ssVideoProfile::kH265Main, "h265"},
+    {Hl2ssVideoProfile::kH264Main, "h264"},
+    {Hl2ssVideoProfile::kH264Base, "h264-base"},
+    {Hl2ssVideoProfile::kH264High, "h264-high"},
+};
+
+}  // namespace
+
+std::optional<Hl2ssStreamProfile> ParseHl2ssStreamProfile(const std::string& text) {
+  if (text == "raw") return Hl2ssStreamProfile{Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kRaw};
+  if (text == "zdepth") {
+    return Hl2ssStreamProfile{Hl2ssDepthProfile::kZdepth, Hl2ssVideoProfile::kRaw};
+  }
+  const std::size_t plus = text.find('+');
+  if (plus == std::string::npos) return std::nullopt;
+  const std::string depth = text.substr(0, plus);
+  const std::string video = text.substr(plus + 1);
+  Hl2ssStreamProfile profile;
+  if (depth == "same") {
+    profile.profile_z = Hl2ssDepthProfile::kSame;
+  } else if (depth != "zdepth") {
+    return std::nullopt;
+  }
+  if (video == "h264-main") {
+    profile.profile_ab = Hl2ssVideoProfile::kH264Main;
+    return profile;
+  }
+  for (const auto& [value, name] : kVideoNames) {
+    if (video == name) {
+      profile.profile_ab = value;
+      return profile;
+    }
+  }
+  return std::nullopt;
+}
+
+std::string Hl2ssStreamProfileName(const Hl2ssStreamProfile& profile) {
+  if (profile.profile_ab == Hl2ssVideoProfile::kRaw) {  // the names tofnav has always used
+    return profile.profile_z == Hl2ssDepthProfile::kSame ? "raw" : "zdepth";
+  }
+  std::string name = profile.profile_z == Hl2ssDepthProfile::kSame ? "same+" : "zdepth+";
+  for (const auto& [value, video] : kVideoNames) {
+    if (value == profile.profile_ab) return name + video;
+  }
+  return name + "?";
+}
+
+std::string Hl2ssStreamProfileChoices() {
+  std::string text;
+  for (const Hl2ssDepthProfile depth : {Hl2ssDepthProfile::kZdepth, Hl2ssDepthProfile::kSame}) {
+    for (const auto& [value, video] : kVideoNames) {
+      text += (text.empty() ? "" : ", ") + Hl2ssStreamProfileName({depth, value});
+    }
+  }
+  return text;
+}
+
+std::vector<Hl2ssEncoderOption> Hl2ssDefaultEncoderOptions(Hl2ssVideoProfile profile_ab) {
+  return {{kHl2ssGopOptionKey, profile_ab == Hl2ssVideoProfile::kRaw ? 1u : 45u}};
+}
+
+int Hl2ssGopFrames(const Hl2ssAhatConfig& config) {
+  for (const Hl2ssEncoderOption& option : config.encoder_options) {
+    if (option.key == kHl2ssGopOptionKey) {
+      return static_cast<int>(std::clamp<std::uint64_t>(option.value, 1, 100000));
+    }
+  }
+  return static_cast<int>(Hl2ssDefaultEncoderOptions(config.profile_ab)[0].value);
+}
+
+H26xEncoderOptions Hl2ssEncoderSettings(const Hl2ssAhatConfig& config) {
+  Require(config.profile_ab != Hl2ssVideoProfile::kRaw, "Hl2ssEncoderSettings: a RAW profile");
+  H26xEncoderOptions options;
+  options.codec =
+      config.profile_ab == Hl2ssVideoProfile::kH265Main ? H26xCodec::kH265 : H26xCodec::kH264;
+  if (config.profile_ab == Hl2ssVideoProfile::kH264Base) {
+    options.h264_profile = H264Profile::kBaseline;
+  } else if (config.profile_ab == Hl2ssVideoProfile::kH264High) {
+    options.h264_profile = H264Profile::kHigh;
+  }
+  options.bitrate_bps = config.bitrate_bps;
+  options.gop_frames = Hl2ssGopFrames(config);
+  options.divisor = std::max<int>(config.divisor, 1);
+  return options;
 }
 
 Hl2ssPayloadSizes ClassifyHl2ssPayload(const Hl2ssAhatConfig& config, std::uint32_t payload_size,

@@ -18,6 +18,7 @@ constexpr std::uint64_t kHl2ssPacketHeaderBytes = 12;  // u64 timestamp, u32 pay
 constexpr std::uint64_t kHl2ssSizeFieldsBytes = 8;     // u32 size_z, u32 size_ab
 constexpr std::uint64_t kHl2ssTicksBytes = 8;          // u64 sensor_ticks
 constexpr std::uint64_t kHl2ssPoseBytes = 64;          // f32[16], mode 1 only
+constexpr std::uint64_t kHl2ssGopOptionKey = 10;       // CODECAPI_AVEncMPVGOPSize
 constexpr std::uint32_t kHl2ssRawPlaneBytes = kAhatPixels * sizeof(std::uint16_t);
 
 /// Bytes of a RAW AB blob (docs/ahat.md 3.5): depth and AB planes in SAME mode, AB in ZDEPTH.

@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cstring>
+#include <optional>
 #include <utility>
 
 #include "tofnav/core/require.hpp"
@@ -165,6 +166,7 @@ void Hl2ssRecording::IndexPackets(std::uint64_t offset) {
         path_, offset);
     packet.layout = sizes.layout;
     packet.size_z = sizes.size_z;
+    packet.size_ab = sizes.size_ab;
     const std::uint64_t end = offset + kHl2ssPacketHeaderBytes + packet.payload_size + pose_bytes;
     if (end > size_) {
       truncated_tail_ = true;
@@ -173,6 +175,11 @@ void Hl2ssRecording::IndexPackets(std::uint64_t offset) {
     if (sizes.size_ab == 0) {
       ++skipped_empty_;  // encoder hiccup; hl2ss clients drop these too
     } else {
+      if (config_.profile_ab != Hl2ssVideoProfile::kRaw) {
+        std::vector<std::uint8_t> unit(packet.size_ab);
+        ReadAt(AbBlobOffset(packet), unit, "access unit");
+        packet.key = H26xIsKeyFrame(Hl2ssEncoderSettings(config_).codec, unit);
+      }
       if (!index_.empty() && packet.timestamp < index_.back().timestamp) {
         throw IoError(path_, offset,
                       "timestamp " + std::to_string(packet.timestamp) +
@@ -196,11 +203,99 @@ std::uint64_t Hl2ssRecording::host_ticks(std::size_t index) const { return At(in
 Hl2ssPayloadLayout Hl2ssRecording::layout(std::size_t index) const { return At(index).layout; }
 std::uint64_t Hl2ssRecording::packet_offset(std::size_t index) const { return At(index).offset; }
 
-AhatFrame Hl2ssRecording::ReadFrame(std::size_t index) const {
-  const Packet& packet = At(index);
-  if (config_.profile_ab != Hl2ssVideoProfile::kRaw) {
-    throw IoError(path_, packet.offset, "H26x AB/depth needs libavcodec, not built");
+std::uint64_t Hl2ssRecording::AbBlobOffset(const Packet& packet) const {
+  const std::uint64_t sizes =
+      packet.layout == Hl2ssPayloadLayout::kLegacySame ? 0 : kHl2ssSizeFieldsBytes;
+  return packet.offset + kHl2ssPacketHeaderBytes + sizes + packet.size_z;
+}
+
+int Hl2ssRecording::measured_gop_frames() const {
+  std::optional<std::size_t> first;
+  for (std::size_t i = 0; i < index_.size(); ++i) {
+    if (!index_[i].key) continue;
+    if (first) return static_cast<int>(i - *first);
+    first = i;
   }
+  return 0;
+}
+
+namespace {
+
+double BitsPerSecond(std::uint64_t bytes, std::size_t frames, std::uint64_t first_ticks,
+                     std::uint64_t last_ticks) {
+  if (frames < 2 || last_ticks <= first_ticks) return 0.0;
+  const double frame_interval_s = static_cast<double>(last_ticks - first_ticks) *
+                                  kSecondsPerHostTick / static_cast<double>(frames - 1);
+  return 8.0 * static_cast<double>(bytes) / static_cast<double>(frames) / frame_interval_s;
+}
+
+}  // namespace
+
+double Hl2ssRecording::ab_bitrate_bps() const {
+  std::uint64_t bytes = 0;
+  for (const Packet& packet : index_) bytes += packet.size_ab;
+  if (index_.empty()) return 0.0;
+  return BitsPerSecond(bytes, index_.size(), index_.front().timestamp, index_.back().timestamp);
+}
+
+double Hl2ssRecording::zdepth_bitrate_bps() const {
+  std::uint64_t bytes = 0;
+  for (const Packet& packet : index_) bytes += packet.size_z;
+  if (index_.empty()) return 0.0;
+  return BitsPerSecond(bytes, index_.size(), index_.front().timestamp, index_.back().timestamp);
+}
+
+double Hl2ssRecording::payload_bytes_per_frame() const {
+  if (index_.empty()) return 0.0;
+  std::uint64_t bytes = 0;
+  for (const Packet& packet : index_) bytes += std::uint64_t{packet.size_ab} + packet.size_z;
+  return static_cast<double>(bytes) / static_cast<double>(index_.size());
+}
+
+AhatFrame Hl2ssRecording::ReadVideoFrame(std::size_t index) const {
+  At(index);  // range check
+  if (!video_) video_ = std::make_unique<Hl2ssVideoDecoder>(config_);
+  // Decode on from the last frame read when no key frame lies between; else from the key frame
+  // at or before `index` (or from frame 0, whose unit must then be one).
+  std::size_t start = index;
+  while (start > 0 && !index_[start].key) --start;
+  if (next_video_frame_ != kNone && next_video_frame_ <= index && next_video_frame_ > start) {
+    start = next_video_frame_;
+  } else {
+    video_->Reset();
+  }
+  next_video_frame_ = kNone;  // until the decode below has succeeded
+  std::vector<std::uint8_t> unit;
+  for (std::size_t i = start; i < index; ++i) {
+    const Packet& skipped = index_[i];
+    unit.resize(skipped.size_ab);
+    ReadAt(AbBlobOffset(skipped), unit, "access unit");
+    video_->Advance(unit, {path_, AbBlobOffset(skipped), i});
+  }
+  AhatFrame frame = ReadFrameWith(index, *video_);
+  next_video_frame_ = index + 1;
+  return frame;
+}
+
+AhatFrame Hl2ssRecording::ReadFrameWith(std::size_t index, Hl2ssVideoDecoder& video) const {
+  const Packet& packet = At(index);
+  Require(config_.profile_ab != Hl2ssVideoProfile::kRaw, "ReadFrameWith: a RAW recording");
+  const std::uint64_t zdepth_offset = AbBlobOffset(packet) - packet.size_z;
+  std::vector<std::uint8_t> zdepth(packet.size_z);
+  ReadAt(zdepth_offset, zdepth, "Zdepth stream");
+  std::vector<std::uint8_t> unit(packet.size_ab);
+  ReadAt(AbBlobOffset(packet), unit, "access unit");
+  AhatFrame frame;
+  frame.host_ticks = packet.timestamp;
+  video.Decode(zdepth, zdepth_offset, unit, {path_, AbBlobOffset(packet), index}, frame);
+  ZeroInvalidRange(frame.range_mm);
+  ReadTail(packet, AbBlobOffset(packet) + packet.size_ab, frame);
+  return frame;
+}
+
+AhatFrame Hl2ssRecording::ReadFrame(std::size_t index) const {
+  if (config_.profile_ab != Hl2ssVideoProfile::kRaw) return ReadVideoFrame(index);
+  const Packet& packet = At(index);
   AhatFrame frame;
   frame.host_ticks = packet.timestamp;
   frame.ab = Image<std::uint16_t>(kAhatWidth, kAhatHeight);
@@ -226,7 +321,11 @@ AhatFrame Hl2ssRecording::ReadFrame(std::size_t index) const {
   ReadAt(cursor, AsBytes(frame.ab), "RAW AB plane");
   cursor += kHl2ssRawPlaneBytes;
   ZeroInvalidRange(frame.range_mm);
+  ReadTail(packet, cursor, frame);
+  return frame;
+}
 
+void Hl2ssRecording::ReadTail(const Packet& packet, std::uint64_t cursor, AhatFrame& frame) const {
   // Sensor ticks (current layout) and the pose (mode 1) follow the AB blob contiguously.
   const bool has_ticks = packet.layout == Hl2ssPayloadLayout::kCurrent;
   const std::uint64_t pose_bytes = config_.mode == 1 ? kHl2ssPoseBytes : 0;
@@ -248,7 +347,6 @@ AhatFrame Hl2ssRecording::ReadFrame(std::size_t index) const {
       frame.world_from_rig = RigidFromDirectX(rig_to_world, path_, cursor);
     }
   }
-  return frame;
 }
 
 std::unique_ptr<Hl2ssRecording> OpenHl2ssRecording(const std::filesystem::path& path) {

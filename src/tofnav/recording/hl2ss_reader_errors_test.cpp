@@ -133,9 +133,9 @@ TEST(Hl2ssRecordingErrors, NonRigidPoseAtItsOffset) {
   EXPECT_THROW(recording.ReadFrame(2), PreconditionError);
 }
 
-TEST(Hl2ssRecordingErrors, H26xFramesNeedLibavcodec) {
+TEST(Hl2ssRecordingErrors, LegacyH26xPayloadIsOneAccessUnit) {
   Bytes b = Header(0, 0, 3804, 3);  // SAME + H265_MAIN, legacy: the payload is one access unit
-  b.Put<std::uint64_t>(7).Put<std::uint32_t>(6).Append({0, 0, 0, 1, 0x40, 0x01});
+  b.Put<std::uint64_t>(7).Put<std::uint32_t>(6).Append({0, 0, 0, 1, 0x40, 0x01});  // a VPS only
   const Hl2ssRecording recording(b.data, "h265.bin");
   EXPECT_EQ(recording.format(), "hl2ss SAME+H265_MAIN");
   ASSERT_EQ(recording.frame_count(), 1u);
@@ -144,8 +144,8 @@ TEST(Hl2ssRecordingErrors, H26xFramesNeedLibavcodec) {
     recording.ReadFrame(0);
     FAIL();
   } catch (const IoError& e) {
-    EXPECT_EQ(e.offset(), kFirstPacket);
-    EXPECT_THAT(e.what(), HasSubstr("libavcodec"));
+    EXPECT_EQ(e.offset(), kFirstPacket + 12);  // the unit right after the packet header
+    EXPECT_THAT(e.what(), HasSubstr("frame 0: H.265 access unit of 6 bytes is not a key frame"));
   }
 }
 

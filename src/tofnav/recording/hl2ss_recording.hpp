@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "tofnav/io/file.hpp"
+#include "tofnav/recording/h26x_codec.hpp"
 #include "tofnav/recording/zdepth.hpp"
 #include "tofnav/sensor/ahat_recording.hpp"
 
@@ -54,6 +55,52 @@ struct Hl2ssAhatConfig {
 /// or 1 (RAW), times 16 in SAME mode.
 std::uint32_t Hl2ssDefaultAhatBitrate(Hl2ssDepthProfile profile_z, Hl2ssVideoProfile profile_ab);
 
+/// A stream profile as users name it: "zdepth+h265", "same+h264", "same+raw", ... ("raw" and
+/// "zdepth" are same+raw and zdepth+raw; "h264" is H.264 Main, "h264-base" and "h264-high" the
+/// others). nullopt for anything else.
+struct Hl2ssStreamProfile {
+  Hl2ssDepthProfile profile_z = Hl2ssDepthProfile::kZdepth;
+  Hl2ssVideoProfile profile_ab = Hl2ssVideoProfile::kH265Main;
+  bool operator==(const Hl2ssStreamProfile&) const = default;
+};
+std::optional<Hl2ssStreamProfile> ParseHl2ssStreamProfile(const std::string& text);
+/// The canonical name of a profile: "zdepth+h265", "same+h264-base", ..., and "raw" / "zdepth"
+/// for the RAW-AB profiles.
+std::string Hl2ssStreamProfileName(const Hl2ssStreamProfile& profile);
+/// Every profile's canonical name, for help texts.
+std::string Hl2ssStreamProfileChoices();
+
+/// The hl2ss client's default encoder options: GOP (key 10) 45 frames for H26x, 1 for RAW.
+std::vector<Hl2ssEncoderOption> Hl2ssDefaultEncoderOptions(Hl2ssVideoProfile profile_ab);
+/// The GOP a configuration asks for (option key 10; the default when absent).
+int Hl2ssGopFrames(const Hl2ssAhatConfig& config);
+/// The encoder settings that stand in for the headset's for `config` (codec, H.264 profile,
+/// bitrate, GOP, frame rate); PreconditionError for RAW.
+H26xEncoderOptions Hl2ssEncoderSettings(const Hl2ssAhatConfig& config);
+
+/// Decodes the H.264/H.265 packets of one hl2ss AHAT stream in order, as hl2ss's clients do
+/// (docs/ahat.md 3.6): SAME gives range = 4 Y (4 mm steps, wrapping above 1023 mm) and
+/// half-resolution AB; ZDEPTH gives the Zdepth range and full-resolution AB = Y^2. Shared by the
+/// recording reader and the live client.
+class Hl2ssVideoDecoder {
+ public:
+  explicit Hl2ssVideoDecoder(const Hl2ssAhatConfig& config);
+  /// Fills frame.range_mm, frame.ab and the precision flags from the packet's Zdepth blob (empty
+  /// for SAME; it starts at byte `zdepth_offset` of `place.source`) and its access unit.
+  void Decode(std::span<const std::uint8_t> zdepth, std::uint64_t zdepth_offset,
+              std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place,
+              AhatFrame& frame);
+  /// Decodes a unit only to keep the reference pictures (frames skipped on the way to a seek).
+  void Advance(std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place);
+  /// After an error or a seek: the next unit must be a key frame.
+  void Reset() { decoder_.Reset(); }
+  H26xCodec codec() const { return decoder_.codec(); }
+
+ private:
+  Hl2ssDepthProfile profile_z_;
+  H26xDecoder decoder_;
+};
+
 /// An hl2ss AHAT recording. Opening reads only the header and the packet headers (a RAW file is
 /// 1 MiB per frame); frames are decoded on demand. Packets with an empty AB blob are skipped
 /// (as hl2ss clients do) and a truncated last packet is dropped; both are counted.
@@ -68,10 +115,15 @@ class Hl2ssRecording : public AhatRecording {
   std::string format() const override;
   std::size_t frame_count() const override { return index_.size(); }
   std::uint64_t host_ticks(std::size_t index) const override;
-  /// RAW and ZDEPTH+RAW; H26x profiles throw IoError (libavcodec support is not built).
-  /// ZDEPTH range is exact at 201..749 mm and in 2 mm steps above, so depth_step_mm = 2.
+  /// Every profile. ZDEPTH range is exact at 201..749 mm and in 2 mm steps above, so
+  /// depth_step_mm = 2; SAME + H26x range has 4 mm steps. H26x frames are decoded from the key
+  /// frame at or before `index` (or on from the last frame read: reading in order decodes each
+  /// unit once).
   AhatFrame ReadFrame(std::size_t index) const override;
   std::optional<AhatCalibration> calibration() const override { return std::nullopt; }
+  /// H26x only: decodes frame `index` with `video`, which must have decoded the frames since the
+  /// last key frame (the live client's decoder, fed one packet at a time).
+  AhatFrame ReadFrameWith(std::size_t index, Hl2ssVideoDecoder& video) const;
 
   const Hl2ssAhatConfig& config() const { return config_; }
   const std::vector<std::uint8_t>& user_data() const { return user_data_; }
@@ -79,6 +131,16 @@ class Hl2ssRecording : public AhatRecording {
   /// Byte offset of frame `index`'s packet (its timestamp field).
   std::uint64_t packet_offset(std::size_t index) const;
   std::size_t skipped_empty_packets() const { return skipped_empty_; }
+  /// H26x only: whether frame `index`'s access unit is a key frame (IDR), and the key frames'
+  /// spacing (0 for RAW or a single key frame).
+  bool key_frame(std::size_t index) const { return At(index).key; }
+  int measured_gop_frames() const;
+  /// Bits per second of the AB (or ZAB) blobs and of the Zdepth blobs over the recording's
+  /// duration (0 with fewer than two frames).
+  double ab_bitrate_bps() const;
+  double zdepth_bitrate_bps() const;
+  /// Mean bytes of the AB (or ZAB) and Zdepth blobs per frame (0 without frames).
+  double payload_bytes_per_frame() const;
   /// True when the file ends inside a packet (recording killed); that packet is not a frame.
   bool truncated_tail() const { return truncated_tail_; }
 
@@ -88,7 +150,9 @@ class Hl2ssRecording : public AhatRecording {
     std::uint64_t timestamp = 0;
     std::uint32_t payload_size = 0;
     std::uint32_t size_z = 0;
+    std::uint32_t size_ab = 0;
     Hl2ssPayloadLayout layout = Hl2ssPayloadLayout::kCurrent;
+    bool key = false;  // H26x: the unit holds an IDR picture
   };
 
   void ReadAt(std::uint64_t offset, std::span<std::uint8_t> out, const char* what) const;
@@ -96,6 +160,9 @@ class Hl2ssRecording : public AhatRecording {
   void ReadHeader();
   void IndexPackets(std::uint64_t first_packet);
   const Packet& At(std::size_t index) const;
+  std::uint64_t AbBlobOffset(const Packet& packet) const;
+  void ReadTail(const Packet& packet, std::uint64_t cursor, AhatFrame& frame) const;
+  AhatFrame ReadVideoFrame(std::size_t index) const;
 
   std::filesystem::path path_;
   std::optional<RandomAccessFile> file_;
@@ -107,6 +174,10 @@ class Hl2ssRecording : public AhatRecording {
   std::vector<Packet> index_;
   std::size_t skipped_empty_ = 0;
   bool truncated_tail_ = false;
+  // H26x: the decoder and the index of the frame it decodes next (kNone: it must be reset).
+  static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+  mutable std::unique_ptr<Hl2ssVideoDecoder> video_;
+  mutable std::size_t next_video_frame_ = kNone;
 };
 
 /// Opens an hl2ss AHAT recording; IoError when it is not one.
@@ -116,14 +187,43 @@ struct Hl2ssWriterOptions {
   std::uint8_t mode = 1;  // 1 stores world_from_rig per frame, 0 does not
   std::uint8_t divisor = 1;
   Hl2ssDepthProfile profile_z = Hl2ssDepthProfile::kSame;
-  Hl2ssVideoProfile profile_ab = Hl2ssVideoProfile::kRaw;  // only RAW can be written
+  /// RAW, or H.264 / H.265 encoded with libx264 / libx265 as the headset would
+  /// (Hl2ssEncoderSettings).
+  Hl2ssVideoProfile profile_ab = Hl2ssVideoProfile::kRaw;
   std::uint8_t level = 255;
   std::optional<std::uint32_t> bitrate_bps;  // nullopt: Hl2ssDefaultAhatBitrate
-  /// Key 10 = GOP size; the hl2ss client sends 1 for RAW.
-  std::vector<Hl2ssEncoderOption> encoder_options = {{10, 1}};
+  /// Key 10 = GOP size; nullopt: the hl2ss client's (Hl2ssDefaultEncoderOptions).
+  std::optional<std::vector<Hl2ssEncoderOption>> encoder_options;
   std::string user = "created by tofnav";
   ZdepthEncodeOptions zdepth;  // ZDEPTH only
   void Check() const;
+  /// The configuration stored in the file (defaults filled in).
+  Hl2ssAhatConfig Config() const;
+};
+
+/// Encodes frames into hl2ss AHAT packets (docs/ahat.md 3.3), as the server sends them for
+/// `config` and a recording stores them: header, payload (Zdepth blob, RAW planes or one
+/// H.264/H.265 unit), sensor ticks, and the pose in mode 1. H26x streams start with a key frame,
+/// as each connection of the headset does.
+class Hl2ssPacketEncoder {
+ public:
+  explicit Hl2ssPacketEncoder(const Hl2ssAhatConfig& config,
+                              const ZdepthEncodeOptions& zdepth = {});
+  ~Hl2ssPacketEncoder();
+  Hl2ssPacketEncoder(const Hl2ssPacketEncoder&) = delete;
+  Hl2ssPacketEncoder& operator=(const Hl2ssPacketEncoder&) = delete;
+
+  /// The next frame's packet. Range >= 4090 is sent as 0; a missing sensor_ticks_ns as 0; a
+  /// missing pose as 16 zeros (mode 1).
+  std::vector<std::uint8_t> Encode(const AhatFrame& frame);
+  /// Bytes of the last packet's AB (or ZAB) blob.
+  std::uint64_t last_ab_blob_bytes() const { return last_ab_blob_bytes_; }
+
+ private:
+  Hl2ssAhatConfig config_;
+  ZdepthEncodeOptions zdepth_;
+  std::unique_ptr<H26xEncoder> video_;
+  std::uint64_t last_ab_blob_bytes_ = 0;
 };
 
 /// Writes an hl2ss AHAT recording in the current payload layout (server >= v1.0.33), byte
@@ -138,10 +238,14 @@ class Hl2ssRecordingWriter {
   void Append(const AhatFrame& frame);
   void Close();
   std::size_t frames_written() const { return frames_; }
+  /// Bytes of the AB (or ZAB) blobs written so far (the encoded stream for H26x).
+  std::uint64_t ab_blob_bytes() const { return video_bytes_; }
 
  private:
   AtomicFileWriter file_;
   Hl2ssWriterOptions options_;
+  Hl2ssPacketEncoder packets_;
+  std::uint64_t video_bytes_ = 0;
   std::size_t frames_ = 0;
   std::uint64_t last_ticks_ = 0;
   bool closed_ = false;

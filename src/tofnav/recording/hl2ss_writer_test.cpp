@@ -80,11 +80,11 @@ TEST(Hl2ssRecordingWriter, BytesMatchHandAssembledFile) {
 }
 
 TEST(Hl2ssRecordingWriter, DefaultBitrateIsTheClientDefault) {
-  // 512 * 512 * 45 * 12 * f, times 16 in SAME mode (docs/ahat.md section 3.2).
+  // int(512 * 512 * 45 * 12 * f), then times 16 in SAME mode (docs/ahat.md 3.6.4).
   EXPECT_EQ(Hl2ssDefaultAhatBitrate(Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kH265Main),
-            15'099'494u);
+            15'099'488u);
   EXPECT_EQ(Hl2ssDefaultAhatBitrate(Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kH264Main),
-            30'198'988u);
+            30'198'976u);
   EXPECT_EQ(Hl2ssDefaultAhatBitrate(Hl2ssDepthProfile::kZdepth, Hl2ssVideoProfile::kH265Main),
             943'718u);
   EXPECT_EQ(Hl2ssDefaultAhatBitrate(Hl2ssDepthProfile::kZdepth, Hl2ssVideoProfile::kRaw),
@@ -183,9 +183,13 @@ TEST(Hl2ssRecordingWriter, AbandonedWriterLeavesNoFile) {
 
 TEST(Hl2ssRecordingWriter, RejectsBadInput) {
   const auto path = TempPath("bad.bin");
-  Hl2ssWriterOptions h264;
-  h264.profile_ab = Hl2ssVideoProfile::kH264Main;
-  EXPECT_THROW(Hl2ssRecordingWriter(path, h264), std::invalid_argument);
+  Hl2ssWriterOptions zero_bitrate;
+  zero_bitrate.profile_ab = Hl2ssVideoProfile::kH264Main;
+  zero_bitrate.bitrate_bps = 0;  // hl2ss refuses 0, even for RAW
+  EXPECT_THROW(Hl2ssRecordingWriter(path, zero_bitrate), std::invalid_argument);
+  Hl2ssWriterOptions unknown;
+  unknown.profile_ab = static_cast<Hl2ssVideoProfile>(7);
+  EXPECT_THROW(Hl2ssRecordingWriter(path, unknown), std::invalid_argument);
   EXPECT_FALSE(std::filesystem::exists(path));
   Hl2ssRecordingWriter writer(path);
   writer.Append(PatternFrame(0, 10));

@@ -8,6 +8,7 @@
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
 #include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/recording/hl2ss_format.hpp"
 #include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/recording/stream_recorder.hpp"
 
@@ -54,6 +55,30 @@ RecordingWithCamera OpenRecordingWithCamera(const std::filesystem::path& path,
   }
   opened.camera = std::make_unique<AhatCamera>(*calibration);
   return opened;
+}
+
+}  // namespace tofnav
+
+namespace tofnav {
+
+std::optional<std::string> LossyDepthReason(const AhatRecording& recording) {
+  const auto* hl2ss = dynamic_cast<const Hl2ssRecording*>(&recording);
+  if (hl2ss == nullptr || hl2ss->config().profile_z != Hl2ssDepthProfile::kSame ||
+      hl2ss->config().profile_ab == Hl2ssVideoProfile::kRaw) {
+    return std::nullopt;
+  }
+  return "its depth is " + Hl2ssProfileName(hl2ss->config()) +
+         ": 4 mm steps with codec noise, wrapping to 0-28 mm above 1023 mm (docs/ahat.md 3.6.5); "
+         "record ZDEPTH+H265 for this stage (exact depth at 201-749 mm, a few Mbit/s)";
+}
+
+void RefuseLossyDepth(const AhatRecording& recording, const std::filesystem::path& path,
+                      bool allow) {
+  if (allow) return;
+  if (const std::optional<std::string> reason = LossyDepthReason(recording)) {
+    throw std::runtime_error(path.string() + ": " + *reason +
+                             ", or pass --allow-lossy-depth to use it anyway");
+  }
 }
 
 }  // namespace tofnav

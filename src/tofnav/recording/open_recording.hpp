@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_recording.hpp"
@@ -28,5 +29,16 @@ struct RecordingWithCamera {
 RecordingWithCamera OpenRecordingWithCamera(const std::filesystem::path& path,
                                             const std::filesystem::path& calibration_dir,
                                             std::optional<double> sample_offset_px = std::nullopt);
+
+/// Why `recording`'s range is too coarse for the stages that measure depth (f_rf, the depth model,
+/// reconstruction): hl2ss SAME + H.264/H.265 (4 mm steps, codec noise, wrapping above 1023 mm);
+/// nullopt for every other recording. The text names the file's profile, the cost and what to
+/// stream instead (docs/ahat.md 3.6.5).
+std::optional<std::string> LossyDepthReason(const AhatRecording& recording);
+
+/// Throws std::runtime_error "<path>: <reason>; pass --allow-lossy-depth to use it anyway" when
+/// LossyDepthReason says so and `allow` is false.
+void RefuseLossyDepth(const AhatRecording& recording, const std::filesystem::path& path,
+                      bool allow);
 
 }  // namespace tofnav

@@ -221,6 +221,7 @@ sim::FrameTimingOptions ParseTiming(const Json& json, const std::string& where) 
   in.Read("drop_probability", options.drop_probability);
   in.Read("mean_drop_slots", options.mean_drop_slots);
   in.Read("slot_stride", options.slot_stride);
+  in.Read("no_hand_rate_hz", options.no_hand_rate_hz);
   in.Finish();
   Checked(where, [&] { options.Check(); });
   return options;

@@ -142,8 +142,7 @@ void CountFullyVisible(const sim::Scene& scene, const sim::SimulatedFrame& frame
 
 void SimulateOptions::Check() const {
   Require(!frames || *frames >= 1, "SimulateOptions.frames must be >= 1");
-  Require(profile == Hl2ssDepthProfile::kSame || profile == Hl2ssDepthProfile::kZdepth,
-          "SimulateOptions.profile must be SAME (raw) or ZDEPTH");
+  Require(!bitrate_bps || *bitrate_bps >= 10000, "SimulateOptions.bitrate_bps must be >= 10000");
 }
 
 SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path& out_dir,
@@ -163,7 +162,7 @@ SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path
     WriteHl2ssCalibration(out_dir / "calibration", simulator.calibration());
   }
   TruthRunInfo info;
-  info.profile = options.profile == Hl2ssDepthProfile::kZdepth ? "zdepth" : "raw";
+  info.profile = Hl2ssStreamProfileName(options.profile);
   info.files = {{"recording", kRecordingName}, {"calibration", kCalibrationName}};
   if (options.truth_depth) info.files.emplace_back("truth_range", kTruthRangeName);
   if (scenario.patient) WritePatientFiles(scenario, out_dir, info.files);
@@ -171,7 +170,9 @@ SimulateResult RunSimulation(sim::Scenario scenario, const std::filesystem::path
   WriteToolFiles(scenario, out_dir, info.files);
 
   Hl2ssWriterOptions writer_options;
-  writer_options.profile_z = options.profile;
+  writer_options.profile_z = options.profile.profile_z;
+  writer_options.profile_ab = options.profile.profile_ab;
+  writer_options.bitrate_bps = options.bitrate_bps;
   Hl2ssRecordingWriter recording(out_dir / kRecordingName, writer_options);
   SimulationTruthWriter truth(out_dir / kTruthName, scenario, info);
   std::optional<AtomicFileWriter> truth_range;

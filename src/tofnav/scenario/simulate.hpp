@@ -21,8 +21,11 @@ namespace tofnav {
 struct SimulateOptions {
   std::optional<std::int64_t> frames;  // overrides scenario.frames: the first N frames
   std::optional<std::uint64_t> seed;   // overrides scenario.seed
-  Hl2ssDepthProfile profile = Hl2ssDepthProfile::kSame;  // RAW or ZDEPTH depth in the recording
-  bool truth_depth = false;                              // also write truth_range_f32.bin
+  /// The recording's hl2ss profile: SAME+RAW by default; H.264/H.265 profiles are encoded with
+  /// libx264/libx265 as the headset would (docs/ahat.md 3.6).
+  Hl2ssStreamProfile profile{Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kRaw};
+  std::optional<std::uint32_t> bitrate_bps;  // H26x; unset: the hl2ss client's default
+  bool truth_depth = false;                  // also write truth_range_f32.bin
   /// A camera built for the scenario's calibration options, to share between runs (optional).
   std::shared_ptr<const sim::SimulatorCamera> camera;
   /// Called after each frame with (frames done, total).

@@ -119,7 +119,7 @@ TEST(RunSimulation, ZdepthProfileAndOptionChecks) {
   SimulateOptions options = SmallRun();
   options.frames = 1;
   options.truth_depth = false;
-  options.profile = Hl2ssDepthProfile::kZdepth;
+  options.profile = {Hl2ssDepthProfile::kZdepth, Hl2ssVideoProfile::kRaw};
   RunSimulation(s, dir.path(), options);
   EXPECT_EQ(OpenHl2ssRecording(dir.path() / "rm_depth_ahat.bin")->config().profile_z,
             Hl2ssDepthProfile::kZdepth);

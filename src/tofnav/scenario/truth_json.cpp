@@ -112,7 +112,8 @@ OrderedJson Header(const sim::Scenario& s, const TruthRunInfo& info) {
                  {"start_ticks", s.timing.start_ticks},
                  {"drop_probability", s.timing.drop_probability},
                  {"mean_drop_slots", s.timing.mean_drop_slots},
-                 {"slot_stride", s.timing.slot_stride}};
+                 {"slot_stride", s.timing.slot_stride},
+                 {"no_hand_rate_hz", s.timing.no_hand_rate_hz}};
   h["render"] = internal::RenderJson(s.render);
   OrderedJson materials = OrderedJson::array();
   for (const sim::Material& m : s.scene.materials) materials.push_back(internal::MaterialJson(m));

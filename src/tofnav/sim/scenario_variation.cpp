@@ -159,6 +159,7 @@ void ApplyVariation(const ScenarioVariation& v, Scenario& s) {
   }
   if (v.drop_probability >= 0.0) s.timing.drop_probability = v.drop_probability;
   if (v.mean_drop_slots >= 1.0) s.timing.mean_drop_slots = v.mean_drop_slots;
+  if (v.no_hand_rate_hz >= 0.0) s.timing.no_hand_rate_hz = v.no_hand_rate_hz;
   if (v.slam_translation_sigma_mm >= 0.0) {
     s.camera.slam.translation_sigma_mm = v.slam_translation_sigma_mm;
   }

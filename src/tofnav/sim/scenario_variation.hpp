@@ -37,6 +37,7 @@ struct ScenarioVariation {
   double head_drift_mm = 20.0;
   double drop_probability = -1.0;           // >= 0 replaces the scenario's timing value
   double mean_drop_slots = -1.0;            // >= 1 replaces it
+  double no_hand_rate_hz = -1.0;            // >= 0 replaces the rate without a hand in view
   double slam_translation_sigma_mm = -1.0;  // >= 0 replaces the headset pose jitter
   double slam_rotation_sigma_rad = -1.0;    // >= 0 replaces it
   void Check() const;                       // throws PreconditionError naming the bad field

@@ -78,11 +78,33 @@ Rigid3d ScenarioCameraPose(const Scenario& scenario, std::int64_t slot) {
                     StreamSeed(scenario.seed, SeedStream::kCamera));
 }
 
+bool Simulator::HandInView(std::int64_t slot) const {
+  // The headset's hand tracker sees a hand that is in the AHAT image within arm's reach; its
+  // vertices stand in for the hand (docs/simulator.md 6.8).
+  constexpr double kHandTrackingRangeMm = 1000.0;
+  const std::vector<Rigid3d> world_from_mounts = ScenarioMountPoses(scenario_, slot);
+  const Rigid3d ahat_from_world = ScenarioCameraPose(scenario_, slot).Inverse();
+  for (std::size_t o = 0; o < scenario_.scene.objects.size(); ++o) {
+    const SceneObject& object = scenario_.scene.objects[o];
+    if (!object.name.starts_with("hand")) continue;
+    const Rigid3d ahat_from_object =
+        ahat_from_world *
+        InWorld(world_from_mounts, scenario_.object_mounts[o], object.scene_from_object);
+    const std::size_t step = std::max<std::size_t>(1, object.mesh.vertices.size() / 64);
+    for (std::size_t v = 0; v < object.mesh.vertices.size(); v += step) {
+      const Eigen::Vector3d p = ahat_from_object * object.mesh.vertices[v];
+      if (p.z() <= 0.0 || p.norm() > kHandTrackingRangeMm) continue;
+      if (camera().Project(p)) return true;
+    }
+  }
+  return false;
+}
+
 SimulatedFrame Simulator::Next() {
   Require(!done(), "Simulator::Next: all frames have been rendered");
   SimulatedFrame out;
   out.index = next_index_++;
-  out.slot = clock_.NextSlot();
+  out.slot = clock_.NextSlot([this](std::int64_t slot) { return HandInView(slot); });
   const std::vector<Rigid3d> world_from_mounts = ScenarioMountPoses(scenario_, out.slot);
   for (std::size_t o = 0; o < scene_.objects.size(); ++o) {
     scene_.objects[o].scene_from_object = InWorld(world_from_mounts, scenario_.object_mounts[o],

@@ -78,11 +78,15 @@ class Simulator {
   const AhatCamera& camera() const { return camera_->camera; }
   bool done() const { return next_index_ >= scenario_.frames; }
   std::int64_t dropped_slots() const { return clock_.dropped_slots(); }
+  /// Slots skipped because no hand was in view (FrameTimingOptions::no_hand_rate_hz).
+  std::int64_t throttled_slots() const { return clock_.throttled_slots(); }
 
   /// Renders the next frame; PreconditionError when done().
   SimulatedFrame Next();
 
  private:
+  bool HandInView(std::int64_t slot) const;
+
   const Scenario& scenario_;
   std::shared_ptr<const SimulatorCamera> camera_;
   Scene scene_;  // the scenario's scene with world poses of the current frame

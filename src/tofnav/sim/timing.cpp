@@ -27,6 +27,8 @@ void FrameTimingOptions::Check() const {
   Require(start_ticks < (std::uint64_t{1} << 62), "FrameTimingOptions.start_ticks is too large");
   Require(slot_stride >= 1 && slot_stride <= 1000,
           "FrameTimingOptions.slot_stride must lie in [1, 1000]");
+  Require(std::isfinite(no_hand_rate_hz) && no_hand_rate_hz >= 0.0 && no_hand_rate_hz <= rate_hz,
+          "FrameTimingOptions.no_hand_rate_hz must lie in [0, rate_hz]");
 }
 
 std::uint64_t SlotTicks(const FrameTimingOptions& options, std::int64_t slot) {
@@ -40,7 +42,22 @@ FrameClock::FrameClock(const FrameTimingOptions& options, std::uint64_t seed)
   options_.Check();
 }
 
-std::int64_t FrameClock::NextSlot() {
+std::int64_t FrameClock::NextSlot(const std::function<bool(std::int64_t)>& hand_in_view) {
+  std::int64_t slot = NextRandomSlot();
+  if (options_.no_hand_rate_hz > 0.0 && hand_in_view && last_kept_ >= 0) {
+    // Without a hand the camera delivers a frame every rate_hz / no_hand_rate_hz slots.
+    const double period = options_.rate_hz / options_.no_hand_rate_hz;
+    while (static_cast<double>(slot - last_kept_) < period - 1e-9 && !hand_in_view(slot)) {
+      ++dropped_;  // this slot (NextRandomSlot counts the ones it passes over)
+      ++throttled_;
+      slot = NextRandomSlot();
+    }
+  }
+  last_kept_ = slot;
+  return slot;
+}
+
+std::int64_t FrameClock::NextRandomSlot() {
   const std::int64_t stride = options_.slot_stride;
   const std::int64_t slot = next_;
   next_ += stride;

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <random>
 
 #include "tofnav/core/rigid3d.hpp"
@@ -20,6 +21,9 @@ struct FrameTimingOptions {
   /// Keep every n-th slot only (the others count as dropped): the same motion over its whole
   /// duration in 1/n of the frames, e.g. the short runs of the robustness suite (docs/suite.md).
   std::int64_t slot_stride = 1;
+  /// > 0: the rate [Hz] of the real AHAT camera while no hand is in view (about 5 Hz on a
+  /// HoloLens 2: its hand tracker throttles the camera, docs/simulator.md 6.8); 0: always rate_hz.
+  double no_hand_rate_hz = 0.0;
   void Check() const;  // throws PreconditionError naming the bad field
 };
 
@@ -30,15 +34,23 @@ std::uint64_t SlotTicks(const FrameTimingOptions& options, std::int64_t slot);
 class FrameClock {
  public:
   FrameClock(const FrameTimingOptions& options, std::uint64_t seed);
-  /// The next kept slot (0 on the first call).
-  std::int64_t NextSlot();
+  /// The next kept slot (0 on the first call). With no_hand_rate_hz, `hand_in_view(slot)` says
+  /// whether a hand is seen at a slot; while none is, slots closer than 1 / no_hand_rate_hz to
+  /// the last kept one are skipped (counted as dropped).
+  std::int64_t NextSlot(const std::function<bool(std::int64_t)>& hand_in_view = {});
   std::int64_t dropped_slots() const { return dropped_; }
+  /// Slots skipped because no hand was in view.
+  std::int64_t throttled_slots() const { return throttled_; }
 
  private:
+  std::int64_t NextRandomSlot();
+
   FrameTimingOptions options_;
   std::mt19937_64 rng_;
   std::int64_t next_ = 0;
   std::int64_t dropped_ = 0;
+  std::int64_t throttled_ = 0;
+  std::int64_t last_kept_ = -1;
 };
 
 /// Error of the headset's reported rig pose (spatial tracking), white per frame.

@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <vector>
 
 #include "matchers.hpp"
 #include "tofnav/core/require.hpp"
@@ -45,6 +46,29 @@ TEST(FrameClock, AStrideKeepsEveryNthSlotAndCountsTheRestAsDropped) {
   EXPECT_EQ(dropping.dropped_slots(), slot + 1 - 1000);
   options.slot_stride = 0;
   EXPECT_THROW(options.Check(), PreconditionError);
+}
+
+TEST(FrameClock, WithoutAHandInViewTheCameraRunsAtItsLowRate) {
+  FrameTimingOptions options;
+  options.no_hand_rate_hz = 5.0;  // 45 / 5: one frame every 9 slots without a hand
+  FrameClock clock(options, 3);
+  const auto hand = [](std::int64_t slot) { return slot >= 90 && slot < 180; };
+  std::vector<std::int64_t> slots;
+  while (slots.empty() || slots.back() < 270) slots.push_back(clock.NextSlot(hand));
+  for (std::size_t i = 1; i < slots.size(); ++i) {
+    const std::int64_t gap = slots[i] - slots[i - 1];
+    if (hand(slots[i])) {
+      EXPECT_EQ(gap, slots[i] == 90 ? 9 : 1) << slots[i];  // 45 Hz as soon as the hand is seen
+    } else {
+      EXPECT_EQ(gap, 9) << slots[i];
+    }
+  }
+  // 10 frames in the first 90 slots, 90 with the hand, 11 after it (slots 188-278); every
+  // other slot up to the last frame's is skipped.
+  EXPECT_EQ(slots.size(), 111u);
+  EXPECT_EQ(slots.back(), 278);
+  EXPECT_EQ(clock.throttled_slots(), 279 - 111);
+  EXPECT_EQ(clock.dropped_slots(), clock.throttled_slots());
 }
 
 TEST(FrameClock, DropsFollowTheGeometricBurstModel) {

@@ -53,6 +53,11 @@ GuidanceLevel LevelOf(const NavigationState& state, const HeadsetSceneOptions& o
 std::string PanelText(const NavigationState& state, const std::vector<Trajectory>& plan) {
   const auto active = static_cast<std::size_t>(state.active_trajectory);
   std::string text = active < plan.size() ? plan[active].name : std::string();
+  if (state.low_rate) {  // the camera throttled (no hand in view): poses are up to 200 ms apart
+    char rate[64];
+    std::snprintf(rate, sizeof rate, "LOW RATE %.0f Hz\n", state.received_rate_hz);
+    text = rate + text;
+  }
   if (!state.guidance) return text + "\ninstrument not tracked";
   char line[160];
   std::snprintf(line, sizeof line, "\ntip-entry %.1f mm\nangle %.1f deg\ndepth %.1f mm",

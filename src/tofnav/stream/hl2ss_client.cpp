@@ -115,19 +115,24 @@ AhatCalibration DownloadHl2ssCalibration(const Hl2ssEndpoint& endpoint, double t
 
 std::optional<AhatFrame> DecodeHl2ssPacket(const Hl2ssAhatConfig& config,
                                            std::span<const std::uint8_t> packet,
-                                           const std::string& source) {
+                                           const std::string& source, Hl2ssVideoDecoder* video) {
+  const bool raw = config.profile_ab == Hl2ssVideoProfile::kRaw;
+  Require(raw || video != nullptr, "DecodeHl2ssPacket: an H26x profile needs the stream's decoder");
   std::vector<std::uint8_t> file = FilePrefix(config);
   file.insert(file.end(), packet.begin(), packet.end());
   const Hl2ssRecording one(std::move(file), source);
   if (one.truncated_tail()) throw IoError(source, 0, "truncated packet");
   if (one.frame_count() == 0) return std::nullopt;  // empty AB blob (encoder hiccup)
-  return one.ReadFrame(0);
+  return raw ? one.ReadFrame(0) : one.ReadFrameWith(0, *video);
 }
 
 Hl2ssAhatClient::Hl2ssAhatClient(const Hl2ssEndpoint& endpoint, const Hl2ssAhatConfig& config,
                                  double timeout_s)
     : endpoint_(endpoint), config_(config) {
   Require(config.mode <= 1, "Hl2ssAhatClient: mode must be 0 or 1 (mode 2: calibration)");
+  if (config.profile_ab != Hl2ssVideoProfile::kRaw) {
+    video_ = std::make_unique<Hl2ssVideoDecoder>(config);
+  }
   socket_ = ConnectTcp(endpoint.host, endpoint.port, timeout_s);
   SetTimeouts(socket_, timeout_s);
   WriteAll(socket_, EncodeHl2ssAhatConfig(config), Hl2ssUri(endpoint));
@@ -152,8 +157,24 @@ std::optional<AhatFrame> Hl2ssAhatClient::Next() {
       throw NetworkError(source, NetworkFailure::kTruncated,
                          "receiving the packet payload: the peer closed the connection inside it");
     }
-    std::optional<AhatFrame> frame = DecodeHl2ssPacket(config_, packet, source);
-    if (frame) return frame;  // else an empty-AB packet: skipped
+    if (!video_) {
+      std::optional<AhatFrame> frame = DecodeHl2ssPacket(config_, packet, source);
+      if (frame) return frame;  // else an empty-AB packet: skipped
+      continue;
+    }
+    // H26x: a unit that does not decode drops its frame and every frame up to the next key
+    // frame (their references are gone), never shows a stale or damaged picture.
+    try {
+      if (need_key_frame_) video_->Reset();
+      std::optional<AhatFrame> frame = DecodeHl2ssPacket(config_, packet, source, video_.get());
+      if (!frame) continue;
+      need_key_frame_ = false;
+      return frame;
+    } catch (const IoError& e) {
+      ++dropped_frames_;
+      last_drop_reason_ = e.what();
+      need_key_frame_ = true;
+    }
   }
 }
 

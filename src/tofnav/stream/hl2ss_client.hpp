@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -43,8 +44,10 @@ std::vector<std::uint8_t> DownloadHl2ssCalibrationBytes(const Hl2ssEndpoint& end
 AhatCalibration DownloadHl2ssCalibration(const Hl2ssEndpoint& endpoint, double timeout_s = 10.0,
                                          std::optional<double> sample_offset_override = {});
 
-/// Mode 0/1 stream: sends the configuration on construction, then decodes packets with the io/
-/// recording decoder (RAW and ZDEPTH+RAW). Empty-AB packets are skipped, as hl2ss clients do.
+/// Mode 0/1 stream: sends the configuration on construction, then decodes packets with the
+/// recording decoder (every profile). Empty-AB packets are skipped, as hl2ss clients do. An H26x
+/// unit that does not decode is a dropped frame, counted, never a stale one: the decoder restarts
+/// at the next key frame and the units before it are dropped too.
 class Hl2ssAhatClient : public FrameSource {
  public:
   /// NetworkError when the connection fails; PreconditionError for mode 2 (use the function
@@ -56,17 +59,27 @@ class Hl2ssAhatClient : public FrameSource {
   /// packet, a reset or a receive timeout; IoError on an oversized packet or a bad payload.
   std::optional<AhatFrame> Next() override;
   std::string description() const override;
+  /// H26x frames dropped because a unit did not decode (or came before a key frame).
+  std::int64_t dropped_frames() const { return dropped_frames_; }
+  /// Why the last frame was dropped; empty when none was.
+  const std::string& last_drop_reason() const { return last_drop_reason_; }
 
  private:
   Hl2ssEndpoint endpoint_;
   Hl2ssAhatConfig config_;
   SocketFd socket_;
+  std::unique_ptr<Hl2ssVideoDecoder> video_;  // H26x profiles
+  bool need_key_frame_ = true;
+  std::int64_t dropped_frames_ = 0;
+  std::string last_drop_reason_;
 };
 
 /// Decodes one received packet (12-byte header, payload, pose in mode 1) with the recording
-/// decoder; nullopt for an empty-AB packet. Shared by the client and the fuzz target.
+/// decoder; nullopt for an empty-AB packet. H26x profiles need `video`, the stream's decoder,
+/// fed every packet in order. Shared by the client and the fuzz targets.
 std::optional<AhatFrame> DecodeHl2ssPacket(const Hl2ssAhatConfig& config,
                                            std::span<const std::uint8_t> packet,
-                                           const std::string& source);
+                                           const std::string& source,
+                                           Hl2ssVideoDecoder* video = nullptr);
 
 }  // namespace tofnav

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
+#include <optional>
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/io/io_error.hpp"
@@ -102,11 +103,15 @@ void Hl2ssReplayServer::Serve(const SocketFd& client) {
   if (!ReadExact(client, std::span(config).subspan(10), source, "encoder options")) return;
   const Hl2ssAhatConfig requested = DecodeHl2ssAhatConfig(config, source);
   const Hl2ssAhatConfig& recorded = recording_.config();
-  if (requested.profile_z != recorded.profile_z || requested.profile_ab != recorded.profile_ab ||
-      requested.mode > recorded.mode) {
+  const bool same_profile =
+      requested.profile_z == recorded.profile_z && requested.profile_ab == recorded.profile_ab;
+  // Another profile is encoded on the fly from a RAW recording, as the headset encodes what each
+  // client asks for; a lossy recording is not re-encoded (its losses would add up).
+  const bool can_transcode = recorded.profile_ab == Hl2ssVideoProfile::kRaw;
+  if ((!same_profile && !can_transcode) || requested.mode > recorded.mode) {
     const std::lock_guard lock(mutex_);
     ++stats_.refused;
-    return;  // no transcoding: close
+    return;  // close
   }
   std::uint64_t number = 0;
   {
@@ -114,11 +119,13 @@ void Hl2ssReplayServer::Serve(const SocketFd& client) {
     number = ++stats_.streams;
   }
   Event("stream " + std::to_string(number) + ": " + Hl2ssProfileName(requested) + " mode " +
-        std::to_string(requested.mode));
-  Stream(client, requested);
+        std::to_string(requested.mode) +
+        (same_profile ? "" : ", encoded from the " + Hl2ssProfileName(recorded) + " recording"));
+  Stream(client, requested, same_profile);
 }
 
-void Hl2ssReplayServer::Stream(const SocketFd& client, const Hl2ssAhatConfig& requested) {
+void Hl2ssReplayServer::Stream(const SocketFd& client, const Hl2ssAhatConfig& requested,
+                               bool as_recorded) {
   const std::string source = "hl2ss replay client";
   const std::uint64_t pose_bytes = recording_.config().mode == 1 ? kHl2ssPoseBytes : 0;
   const std::uint64_t keep_pose = requested.mode == 1 ? pose_bytes : 0;
@@ -130,20 +137,29 @@ void Hl2ssReplayServer::Stream(const SocketFd& client, const Hl2ssAhatConfig& re
   }
   std::uint64_t sent_on_stream = 0;
   std::vector<std::uint8_t> packet;
+  // A new encoder per connection, as the headset builds one (its stream starts with a key frame).
+  std::optional<Hl2ssPacketEncoder> encoder;
+  if (!as_recorded) encoder.emplace(requested);
   while (!stop_ && (options_.loop || next_index_ < frames)) {
     if (options_.realtime && options_.loop) {  // the camera kept running: the frame due now
       while (Due(next_index_ + requested.divisor) <= Clock::now()) next_index_ += requested.divisor;
     }
-    const std::uint64_t offset = recording_.packet_offset(next_index_ % frames);
-    packet.resize(kHl2ssPacketHeaderBytes);
-    file_.ReadAt(offset, packet, "packet header");
-    std::uint32_t payload_bytes;
-    std::memcpy(&payload_bytes, packet.data() + 8, sizeof(payload_bytes));
-    packet.resize(kHl2ssPacketHeaderBytes + payload_bytes + keep_pose);
-    file_.ReadAt(offset + kHl2ssPacketHeaderBytes,
-                 std::span(packet).subspan(kHl2ssPacketHeaderBytes), "packet");
     const std::uint64_t ticks = Ticks(next_index_);
-    std::memcpy(packet.data(), &ticks, sizeof(ticks));
+    if (encoder) {
+      AhatFrame frame = recording_.ReadFrame(next_index_ % frames);
+      frame.host_ticks = ticks;
+      packet = encoder->Encode(frame);
+    } else {
+      const std::uint64_t offset = recording_.packet_offset(next_index_ % frames);
+      packet.resize(kHl2ssPacketHeaderBytes);
+      file_.ReadAt(offset, packet, "packet header");
+      std::uint32_t payload_bytes;
+      std::memcpy(&payload_bytes, packet.data() + 8, sizeof(payload_bytes));
+      packet.resize(kHl2ssPacketHeaderBytes + payload_bytes + keep_pose);
+      file_.ReadAt(offset + kHl2ssPacketHeaderBytes,
+                   std::span(packet).subspan(kHl2ssPacketHeaderBytes), "packet");
+      std::memcpy(packet.data(), &ticks, sizeof(ticks));
+    }
     if (options_.realtime) std::this_thread::sleep_until(Due(next_index_));
     const double elapsed_s = std::chrono::duration<double>(Clock::now() - started_).count();
     if (const std::optional<ReplayFault> fault = schedule_.Due(elapsed_s, stats().packets_sent)) {

@@ -51,10 +51,11 @@ struct Hl2ssReplayStats {
 
 /// Serves one client at a time, like the device: a first byte 2 gets the Mode-2 calibration blob
 /// (the folder's own bytes) and the connection closes; otherwise the rest of the configuration
-/// is read and the recorded packets are streamed in file framing. Only the recorded profile is
-/// served (no transcoding): a request with another depth or AB profile, or mode 1 from a mode-0
-/// recording, is refused by closing. Mode 0 from a mode-1 recording drops the poses. Faults of
-/// `options.faults` are injected between packets of a stream (replay_faults.hpp).
+/// is read and the recorded packets are streamed in file framing. A RAW recording is also served
+/// in any other profile, encoded per connection as the headset does (H.264/H.265 at the bitrate
+/// and GOP the client asks for); a request for another profile of an H26x recording, or mode 1
+/// from a mode-0 recording, is refused by closing. Mode 0 from a mode-1 recording drops the poses.
+/// Faults of `options.faults` are injected between packets of a stream (replay_faults.hpp).
 class Hl2ssReplayServer {
  public:
   /// Opens the recording (hl2ss .bin) and the calibration folder, binds and starts; IoError.
@@ -74,7 +75,8 @@ class Hl2ssReplayServer {
   using Clock = std::chrono::steady_clock;
   void Run();
   void Serve(const SocketFd& client);
-  void Stream(const SocketFd& client, const Hl2ssAhatConfig& requested);
+  /// Streams the recorded packets (`as_recorded`) or frames encoded for `requested`.
+  void Stream(const SocketFd& client, const Hl2ssAhatConfig& requested, bool as_recorded);
   /// Injects `fault`; true when the stream must end.
   bool Inject(const ReplayFault& fault, const SocketFd& client,
               std::span<const std::uint8_t> packet, std::uint64_t sent_on_stream);

@@ -83,6 +83,7 @@ std::optional<AhatFrame> LiveHl2ssSource::Next() {
     NetworkFailure failure = NetworkFailure::kClosed;
     try {
       std::optional<AhatFrame> frame = client_->Next();
+      CountDroppedFrames();
       if (frame) {
         if (!up_) Back();
         last_frame_at_ = Clock::now();
@@ -158,6 +159,7 @@ bool LiveHl2ssSource::Reconnect() {
         return false;
       }
       client_ = std::make_unique<Hl2ssAhatClient>(endpoint_, config_, options_.stall_timeout_s);
+      client_dropped_ = 0;
       frames_on_connection_ = 0;
       return true;
     } catch (const NetworkError& e) {
@@ -206,6 +208,17 @@ double LiveHl2ssSource::DownS() const {
 void LiveHl2ssSource::Report(const LinkReport& report) {
   last_report_at_ = Clock::now();
   if (on_report_) on_report_(report);
+}
+
+void LiveHl2ssSource::CountDroppedFrames() {
+  const std::int64_t dropped = client_->dropped_frames();
+  if (dropped == client_dropped_) return;
+  stats_.dropped_frames += dropped - client_dropped_;
+  client_dropped_ = dropped;
+  Report({.up = up_,
+          .message = "dropped a frame that did not decode (" +
+                     std::to_string(stats_.dropped_frames) +
+                     " so far): " + client_->last_drop_reason()});
 }
 
 LiveLinkStats LiveHl2ssSource::stats() const {

@@ -35,6 +35,7 @@ struct LiveLinkStats {
   std::int64_t failed_attempts = 0;  // reconnect attempts that gave no frame
   double down_s = 0.0;               // time without frames, from the last frame before a fault
   double longest_down_s = 0.0;
+  std::int64_t dropped_frames = 0;  // H26x units that did not decode (and those up to a key)
 };
 
 /// What the link tells the user: on every change (`message` set) and every report_period_s
@@ -79,6 +80,7 @@ class LiveHl2ssSource : public FrameSource {
   void AttemptFailed(NetworkFailure failure, const std::string& detail);
   double DownS() const;
   void Report(const LinkReport& report);
+  void CountDroppedFrames();
 
   Hl2ssEndpoint endpoint_;
   Hl2ssAhatConfig config_;
@@ -87,6 +89,7 @@ class LiveHl2ssSource : public FrameSource {
   OnReport on_report_;
   const std::atomic<bool>* stop_ = nullptr;
   std::unique_ptr<Hl2ssAhatClient> client_;
+  std::int64_t client_dropped_ = 0;  // client_->dropped_frames() already counted
   bool up_ = true;
   std::int64_t frames_on_connection_ = 0;
   double backoff_s_ = 0.0;

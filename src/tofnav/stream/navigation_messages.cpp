@@ -90,6 +90,7 @@ std::vector<NamedMessage> EncodeNavigationGreetings(
 std::string NavigationStatusLine(const NavigationState& s, const std::vector<Trajectory>& plan) {
   std::string line = std::string(ToString(s.status)) + Format(" t=%.3fs", s.timestamp_s);
   if (s.status == NavigationStatus::kNoStream) line += Format(" down=%.1fs", s.stream_down_s);
+  if (s.low_rate) line += Format(" LOW_RATE rate=%.1fHz", s.received_rate_hz);
   line += std::string(" ref=") + ToString(s.reference_status);
   line += std::isfinite(s.reference_age_s) ? Format(" age=%.0fms", s.reference_age_s * 1e3)
                                            : " age=never";

@@ -10,10 +10,18 @@ NavigationSessionStats RunNavigationSession(
     FrameSource& source, Navigator& navigator, IgtlServer* server,
     const std::function<void(const NavigationState&)>& on_state, const std::atomic<bool>* stop) {
   NavigationSessionStats stats;
+  FrameRateMonitor rate_monitor;
   while (stop == nullptr || !*stop) {
     const std::optional<AhatFrame> frame = source.Next();
     if (!frame) break;
-    const NavigationState state = navigator.Process(*frame);
+    NavigationState state = navigator.Process(*frame);
+    const FrameRateMonitor::Reading rate = rate_monitor.Update(state.timestamp_s);
+    state.received_rate_hz = rate.rate_hz;
+    state.low_rate = rate.low_rate;
+    if (rate.low_rate) {
+      ++stats.low_rate_frames;
+      if (!stats.first_low_rate_s) stats.first_low_rate_s = state.timestamp_s;
+    }
     if (server != nullptr) PublishNavigationState(*server, state, navigator);
     if (stats.frames == 0) stats.first_timestamp_s = state.timestamp_s;
     stats.last_timestamp_s = state.timestamp_s;

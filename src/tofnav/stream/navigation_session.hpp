@@ -6,8 +6,10 @@
 #include <cstdint>
 #include <functional>
 #include <map>
+#include <optional>
 
 #include "tofnav/pipeline/navigator.hpp"
+#include "tofnav/stream/frame_rate_monitor.hpp"
 #include "tofnav/stream/frame_source.hpp"
 #include "tofnav/stream/igtl_server.hpp"
 
@@ -27,6 +29,8 @@ struct NavigationSessionStats {
   std::map<MarkerUse, std::int64_t> reference_markers, instrument_markers;
   double first_timestamp_s = 0.0;
   double last_timestamp_s = 0.0;
+  std::int64_t low_rate_frames = 0;        // frames processed with NavigationState::low_rate
+  std::optional<double> first_low_rate_s;  // time stamp of the first of them
 };
 
 /// Runs every frame of `source` through `navigator`, publishes EncodeNavigationFrame's messages
