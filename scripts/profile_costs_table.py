@@ -8,6 +8,8 @@ import math
 import os
 import sys
 
+CASES = ("phantom-spheres", "phantom-discs", "ct-spheres", "mr-discs")  # profile_costs.sh --only
+
 
 def num(value):
     return value if isinstance(value, (int, float)) and not math.isnan(value) else None
@@ -53,7 +55,8 @@ def main():
         suite = os.path.join(out, f"suite_{name}.json")
         if os.path.exists(suite) and os.path.getsize(suite) > 0:
             for row in json.load(open(suite))["rows"]:
-                rows.setdefault(row["name"], {})[config] = figures(row.get("stages", {}))
+                if row["name"] in CASES:  # a whole suite's file may stand in for the four cases
+                    rows.setdefault(row["name"], {})[config] = figures(row.get("stages", {}))
     print("| session | stream | Mbit/s | f_rf bias mm | tracking mm / deg | head depth mm | "
           "recon mm | > 3 mm % | true TRE mm | entry mm | angle deg |")
     print("|---|---|---|---|---|---|---|---|---|---|---|")

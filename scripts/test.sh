@@ -46,6 +46,7 @@ if [ "$mode" != "--quick" ]; then
   scripts/build_sanitize.sh "-DTOFNAV_TEST_MODULES=$modules"
   phase "AddressSanitizer + UndefinedBehaviorSanitizer ctest"
   ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+    LSAN_OPTIONS="suppressions=$PWD/.ci/lsan.supp:print_suppressions=0" \
     ctest --test-dir build/sanitize --output-on-failure -j2 -LE slow --timeout 600
 fi
 phase "done"
