@@ -8,7 +8,7 @@ ENCODED.bin is an HL2SSV23 AHAT recording with profile_ab 0..3 (H264 base/main/h
 and profile_z 0 (SAME) or 1 (ZDEPTH). DECODED_RAW.bin is tofnav's decode of it, written as a
 SAME+RAW recording (AB blob = u16 depth[512*512] then u16 AB[512*512]). This script decodes every AB
 access unit with libavcodec (PyAV), applies the hl2ss client recovery written from the format note
-(shared/reference/hl2ss_encoding.md, sections 3, 4 and 8), and checks pixel for pixel:
+(the format facts of docs/ahat.md 3 and 3.6, not tofnav's code), and checks pixel for pixel:
   SAME:   depth_mm = 4*Y; AB(r, c) = code(r, 2*(c//2))^2 with the codes taken from the U/V planes
           (U[k][j] = A(AB[r][4m]), V[k][j] = A(AB[r][4m+2]), m = j mod 128, r = 2k + j div 128).
   ZDEPTH: AB = Y^2. The Zdepth blob cannot be decoded here, so tofnav's depth is only checked to be

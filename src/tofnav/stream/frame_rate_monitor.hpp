@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // The rate frames arrive at, and LOW_RATE: a real AHAT stream drops to about 5 Hz whenever the
-// headset's hand tracker sees no hand (docs/navigation.md, "Frame rate").
+// headset's hand tracker sees no hand (docs/navigation.md 4).
 #pragma once
 
 #include <deque>
