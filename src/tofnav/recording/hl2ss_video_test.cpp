@@ -78,6 +78,25 @@ TEST(Hl2ssAbCode, EmulatesTheHalfFloatSquareRoot) {
   EXPECT_EQ(Hl2ssAbCode(0), 0);
 }
 
+TEST(Hl2ssStreamProfile, NamesRoundTripAndAliasesParse) {
+  for (const Hl2ssDepthProfile z : {Hl2ssDepthProfile::kSame, Hl2ssDepthProfile::kZdepth}) {
+    for (const Hl2ssVideoProfile ab :
+         {Hl2ssVideoProfile::kRaw, Hl2ssVideoProfile::kH264Base, Hl2ssVideoProfile::kH264Main,
+          Hl2ssVideoProfile::kH264High, Hl2ssVideoProfile::kH265Main}) {
+      const Hl2ssStreamProfile profile{z, ab};
+      EXPECT_EQ(ParseHl2ssStreamProfile(Hl2ssStreamProfileName(profile)), profile);
+    }
+  }
+  EXPECT_EQ(Hl2ssStreamProfileName({Hl2ssDepthProfile::kZdepth, Hl2ssVideoProfile::kH265Main}),
+            "zdepth+h265");
+  EXPECT_EQ(ParseHl2ssStreamProfile("same+raw"),
+            (Hl2ssStreamProfile{Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kRaw}));
+  EXPECT_EQ(ParseHl2ssStreamProfile("zdepth+h264-main"),
+            (Hl2ssStreamProfile{Hl2ssDepthProfile::kZdepth, Hl2ssVideoProfile::kH264Main}));
+  EXPECT_FALSE(ParseHl2ssStreamProfile("zdepth+h266"));
+  EXPECT_FALSE(ParseHl2ssStreamProfile("h265"));
+}
+
 TEST(Hl2ssPictures, SamePackingRoundTripsAsTheClientRecoversIt) {
   const AhatFrame frame = SceneFrame(0);
   Image<std::uint16_t> range = frame.range_mm;
