@@ -121,6 +121,10 @@ std::string Hl2ssStreamProfileChoices() {
   return text;
 }
 
+H26xCodec Hl2ssVideoCodec(Hl2ssVideoProfile profile_ab) {
+  return profile_ab == Hl2ssVideoProfile::kH265Main ? H26xCodec::kH265 : H26xCodec::kH264;
+}
+
 std::vector<Hl2ssEncoderOption> Hl2ssDefaultEncoderOptions(Hl2ssVideoProfile profile_ab) {
   return {{kHl2ssGopOptionKey, profile_ab == Hl2ssVideoProfile::kRaw ? 1u : 45u}};
 }
@@ -137,8 +141,7 @@ int Hl2ssGopFrames(const Hl2ssAhatConfig& config) {
 H26xEncoderOptions Hl2ssEncoderSettings(const Hl2ssAhatConfig& config) {
   Require(config.profile_ab != Hl2ssVideoProfile::kRaw, "Hl2ssEncoderSettings: a RAW profile");
   H26xEncoderOptions options;
-  options.codec =
-      config.profile_ab == Hl2ssVideoProfile::kH265Main ? H26xCodec::kH265 : H26xCodec::kH264;
+  options.codec = Hl2ssVideoCodec(config.profile_ab);
   if (config.profile_ab == Hl2ssVideoProfile::kH264Base) {
     options.h264_profile = H264Profile::kBaseline;
   } else if (config.profile_ab == Hl2ssVideoProfile::kH264High) {

@@ -178,7 +178,7 @@ void Hl2ssRecording::IndexPackets(std::uint64_t offset) {
       if (config_.profile_ab != Hl2ssVideoProfile::kRaw) {
         std::vector<std::uint8_t> unit(packet.size_ab);
         ReadAt(AbBlobOffset(packet), unit, "access unit");
-        packet.key = H26xIsKeyFrame(Hl2ssEncoderSettings(config_).codec, unit);
+        packet.key = H26xIsKeyFrame(Hl2ssVideoCodec(config_.profile_ab), unit);
       }
       if (!index_.empty() && packet.timestamp < index_.back().timestamp) {
         throw IoError(path_, offset,
@@ -231,24 +231,27 @@ double BitsPerSecond(std::uint64_t bytes, std::size_t frames, std::uint64_t firs
 
 }  // namespace
 
-double Hl2ssRecording::ab_bitrate_bps() const {
+std::uint64_t Hl2ssRecording::BlobBytes(std::uint32_t Packet::*size) const {
   std::uint64_t bytes = 0;
-  for (const Packet& packet : index_) bytes += packet.size_ab;
+  for (const Packet& packet : index_) bytes += packet.*size;
+  return bytes;
+}
+
+double Hl2ssRecording::ab_bitrate_bps() const {
   if (index_.empty()) return 0.0;
-  return BitsPerSecond(bytes, index_.size(), index_.front().timestamp, index_.back().timestamp);
+  return BitsPerSecond(BlobBytes(&Packet::size_ab), index_.size(), index_.front().timestamp,
+                       index_.back().timestamp);
 }
 
 double Hl2ssRecording::zdepth_bitrate_bps() const {
-  std::uint64_t bytes = 0;
-  for (const Packet& packet : index_) bytes += packet.size_z;
   if (index_.empty()) return 0.0;
-  return BitsPerSecond(bytes, index_.size(), index_.front().timestamp, index_.back().timestamp);
+  return BitsPerSecond(BlobBytes(&Packet::size_z), index_.size(), index_.front().timestamp,
+                       index_.back().timestamp);
 }
 
 double Hl2ssRecording::payload_bytes_per_frame() const {
   if (index_.empty()) return 0.0;
-  std::uint64_t bytes = 0;
-  for (const Packet& packet : index_) bytes += std::uint64_t{packet.size_ab} + packet.size_z;
+  const std::uint64_t bytes = BlobBytes(&Packet::size_ab) + BlobBytes(&Packet::size_z);
   return static_cast<double>(bytes) / static_cast<double>(index_.size());
 }
 

@@ -70,6 +70,10 @@ std::string Hl2ssStreamProfileName(const Hl2ssStreamProfile& profile);
 /// Every profile's canonical name, for help texts.
 std::string Hl2ssStreamProfileChoices();
 
+/// The codec of an H26x AB profile (H.265 for H265_MAIN, H.264 for the others; RAW has none and
+/// gives H.264, never used).
+H26xCodec Hl2ssVideoCodec(Hl2ssVideoProfile profile_ab);
+
 /// The hl2ss client's default encoder options: GOP (key 10) 45 frames for H26x, 1 for RAW.
 std::vector<Hl2ssEncoderOption> Hl2ssDefaultEncoderOptions(Hl2ssVideoProfile profile_ab);
 /// The GOP a configuration asks for (option key 10; the default when absent).
@@ -161,6 +165,7 @@ class Hl2ssRecording : public AhatRecording {
   void IndexPackets(std::uint64_t first_packet);
   const Packet& At(std::size_t index) const;
   std::uint64_t AbBlobOffset(const Packet& packet) const;
+  std::uint64_t BlobBytes(std::uint32_t Packet::*size) const;  // summed over the frames
   void ReadTail(const Packet& packet, std::uint64_t cursor, AhatFrame& frame) const;
   AhatFrame ReadVideoFrame(std::size_t index) const;
 

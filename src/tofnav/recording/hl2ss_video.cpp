@@ -5,16 +5,8 @@
 #include "tofnav/recording/hl2ss_recording.hpp"
 
 namespace tofnav {
-namespace {
-
-H26xCodec CodecOf(const Hl2ssAhatConfig& config) {
-  return config.profile_ab == Hl2ssVideoProfile::kH265Main ? H26xCodec::kH265 : H26xCodec::kH264;
-}
-
-}  // namespace
-
 Hl2ssVideoDecoder::Hl2ssVideoDecoder(const Hl2ssAhatConfig& config)
-    : profile_z_(config.profile_z), decoder_(CodecOf(config)) {}
+    : profile_z_(config.profile_z), decoder_(Hl2ssVideoCodec(config.profile_ab)) {}
 
 void Hl2ssVideoDecoder::Decode(std::span<const std::uint8_t> zdepth, std::uint64_t zdepth_offset,
                                std::span<const std::uint8_t> access_unit,

@@ -48,13 +48,8 @@ const std::array<std::uint8_t, 65536>& CodeTable() {
 // The chroma bytes of the server's NV12 picture, read as one flat array: byte n holds the code of
 // AB row n / 256, column 2 (n % 256). In planar 4:2:0, NV12 byte 2 j of chroma row k is U(j, k)
 // and byte 2 j + 1 is V(j, k).
-std::uint8_t& ChromaByte(Yuv420Picture& picture, std::size_t n) {
-  const auto row = static_cast<int>(n / (2 * kChromaWidth));
-  const auto column = static_cast<int>(n % (2 * kChromaWidth));
-  return column % 2 == 0 ? picture.u(column / 2, row) : picture.v(column / 2, row);
-}
-
-std::uint8_t ChromaByte(const Yuv420Picture& picture, std::size_t n) {
+template <typename Picture>  // Yuv420Picture or const Yuv420Picture
+auto& ChromaByte(Picture& picture, std::size_t n) {
   const auto row = static_cast<int>(n / (2 * kChromaWidth));
   const auto column = static_cast<int>(n % (2 * kChromaWidth));
   return column % 2 == 0 ? picture.u(column / 2, row) : picture.v(column / 2, row);
