@@ -25,6 +25,12 @@ function(tofnav_target_options target)
     target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-Wno-stringop-overflow>
                                              $<$<CXX_COMPILER_ID:GNU>:-Wno-array-bounds>)
   endif()
+  if(TOFNAV_UNITY)
+    # In a unity build every .cpp is included into a generated file, so GCC takes the private
+    # state of a pimpl class (fields of types from the file's anonymous namespace) for a header
+    # exporting them; with one .cpp per translation unit the warning does not arise.
+    target_compile_options(${target} PRIVATE $<$<CXX_COMPILER_ID:GNU>:-Wno-subobject-linkage>)
+  endif()
   if(TOFNAV_WERROR)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
@@ -46,6 +52,21 @@ endfunction()
 set(tofnav_pch_headers <algorithm> <array> <cmath> <cstddef> <cstdint> <filesystem> <functional>
     <limits> <memory> <numbers> <optional> <random> <span> <stdexcept> <string> <string_view>
     <utility> <vector> <Eigen/Core> <Eigen/Geometry>)
+
+# Unity builds (TOFNAV_UNITY): the .cpp files of a library or of the program are compiled in
+# batches of tofnav_unity_batch, each one translation unit, so that the headers (Eigen,
+# nlohmann/json, CLI11) are parsed and their templates instantiated and optimised once per batch
+# instead of once per file. Names in anonymous namespaces must therefore be unique within a
+# library: the build itself says where two files of one batch collide. scripts/build.sh turns it
+# on with the precompiled headers where there is no compiler cache.
+set(tofnav_unity_batch 16)
+
+# tofnav_use_unity(<target>): compiles <target> in unity batches when TOFNAV_UNITY is on.
+function(tofnav_use_unity target)
+  if(TOFNAV_UNITY)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${tofnav_unity_batch})
+  endif()
+endfunction()
 
 # tofnav_use_pch(<target> lib|test): gives <target> the shared header of its group.
 function(tofnav_use_pch target group)
@@ -87,6 +108,7 @@ function(tofnav_add_library name)
   endif()
   tofnav_target_options(tofnav_${name})
   tofnav_use_pch(tofnav_${name} lib)
+  tofnav_use_unity(tofnav_${name})
 endfunction()
 
 # tofnav_add_test(<module> SOURCES ... [DEPENDS ...]): one GoogleTest binary per module.

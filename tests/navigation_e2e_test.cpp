@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "navigation_e2e_case.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/io/io_test_helpers.hpp"
 #include "tofnav/pipeline/guidance.hpp"
 #include "tofnav/recording/hl2ss_calibration.hpp"
@@ -23,8 +24,6 @@
 
 namespace tofnav {
 namespace {
-
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 struct Errors {
   std::vector<double> entry_ahat_mm, direction_deg, entry_world_mm;

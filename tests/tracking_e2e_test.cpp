@@ -6,6 +6,7 @@
 #include <random>
 
 #include "e2e_common.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/markers/marker_centre.hpp"
 #include "tofnav/tracking/tool_definition.hpp"
 #include "tofnav/tracking/tool_tracker.hpp"
@@ -16,8 +17,6 @@ namespace {
 
 using testing::ReferenceTool;
 using testing::SecondTool;
-
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 // Realistic render (physical bias, retro curve, wiggle, noise, scatter) of the given tools.
 struct RenderedTools {

@@ -13,12 +13,12 @@
 namespace tofnav {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 
 // "1280" -> 1280, "true" -> true; anything that would not read back identically stays a string.
-Json Typed(const std::string& s) {
+OrderedJson Typed(const std::string& s) {
   if (s == "true" || s == "false") return s == "true";
-  const Json number = Json::parse(s, nullptr, false);
+  const OrderedJson number = OrderedJson::parse(s, nullptr, false);
   if (number.is_number() && number.dump() == s) return number;
   return s;
 }
@@ -36,7 +36,7 @@ std::vector<std::string> SplitListDefault(std::string text) {
 }
 
 // The option's value (given, else its default; null when it has none).
-Json OptionValue(const CLI::Option& opt) {
+OrderedJson OptionValue(const CLI::Option& opt) {
   const bool flag = opt.get_expected_min() == 0;
   const bool list = opt.get_items_expected_max() > 1;
   std::vector<std::string> values;
@@ -50,13 +50,13 @@ Json OptionValue(const CLI::Option& opt) {
   if (flag) return !values.empty() && CLI::detail::to_flag_value(values.back()) > 0;
   if (values.empty()) return nullptr;
   if (!list) return Typed(values.back());
-  Json array = Json::array();
+  OrderedJson array = OrderedJson::array();
   for (const std::string& v : values) array.push_back(Typed(v));
   return array;
 }
 
-Json OptionsObject(const CLI::App& app, bool default_also) {
-  Json out = Json::object();
+OrderedJson OptionsObject(const CLI::App& app, bool default_also) {
+  OrderedJson out = OrderedJson::object();
   for (const CLI::Option* opt : app.get_options()) {
     if (!opt->get_configurable() || (!default_also && opt->count() == 0)) continue;
     out[opt->get_single_name()] = OptionValue(*opt);
@@ -73,7 +73,7 @@ std::string Joined(const std::vector<std::string>& path) {
   return text;
 }
 
-std::string InputText(const Json& value, const std::vector<std::string>& path) {
+std::string InputText(const OrderedJson& value, const std::vector<std::string>& path) {
   if (value.is_string()) return value.get<std::string>();
   if (value.is_number() || value.is_boolean()) return value.dump();
   throw CLI::ConfigError("key '" + Joined(path) +
@@ -85,7 +85,7 @@ bool IsPrefix(const std::vector<std::string>& prefix, const std::vector<std::str
 }
 
 // Adds the options of `object` (at `path` in the file; `parents`: CLI11 subcommand sections).
-void Collect(const Json& object, const std::vector<std::string>& section,
+void Collect(const OrderedJson& object, const std::vector<std::string>& section,
              const std::vector<std::string>& path, const std::vector<std::string>& parents,
              std::vector<CLI::ConfigItem>& items) {
   for (const auto& [key, value] : object.items()) {
@@ -105,7 +105,7 @@ void Collect(const Json& object, const std::vector<std::string>& section,
     item.parents = parents;
     item.name = key;
     if (value.is_array()) {
-      for (const Json& element : value) item.inputs.push_back(InputText(element, key_path));
+      for (const OrderedJson& element : value) item.inputs.push_back(InputText(element, key_path));
     } else if (!value.is_null()) {
       item.inputs.push_back(InputText(value, key_path));
     }
@@ -130,16 +130,16 @@ std::string ConfigMessage(std::string message) {
 }  // namespace
 
 std::string JsonConfig::to_config(const CLI::App* app, bool default_also, bool, std::string) const {
-  Json out = OptionsObject(*app, default_also);
-  for (auto key = section_.rbegin(); key != section_.rend(); ++key) out = Json{{*key, out}};
+  OrderedJson out = OptionsObject(*app, default_also);
+  for (auto key = section_.rbegin(); key != section_.rend(); ++key) out = OrderedJson{{*key, out}};
   return out.dump(2) + "\n";
 }
 
 std::vector<CLI::ConfigItem> JsonConfig::from_config(std::istream& input) const {
-  Json document;
+  OrderedJson document;
   try {
-    document = Json::parse(input);
-  } catch (const Json::parse_error& e) {
+    document = OrderedJson::parse(input);
+  } catch (const OrderedJson::parse_error& e) {
     const std::string what = e.what();
     throw CLI::ConfigError("invalid JSON: " + what.substr(what.find(']') + 2));
   }
@@ -165,9 +165,9 @@ void AddConfigOptions(CLI::App& app) {
   app.add_flag("--print-config", print_help)->configurable(false);
 }
 
-Json EffectiveOptions(const CLI::App& app) { return OptionsObject(app, true); }
+OrderedJson EffectiveOptions(const CLI::App& app) { return OptionsObject(app, true); }
 
-Json WithOptions(Json json, const CLI::App& app) {
+OrderedJson WithOptions(OrderedJson json, const CLI::App& app) {
   json["options"] = EffectiveOptions(app);
   return json;
 }

@@ -1,8 +1,6 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav demo: the paper end to end on simulated sessions of the embedded head, every artefact
 // and DIR/demo.json (docs/demo.md, the contract: DEMO_SCHEMA in docs/demo.md).
-#include <unistd.h>
-
 #include <CLI/CLI.hpp>
 #include <chrono>
 #include <cmath>
@@ -18,7 +16,6 @@
 #include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/report/report.hpp"
-#include "tofnav/scenario/patient_head.hpp"
 
 namespace tofnav {
 namespace {
@@ -26,64 +23,6 @@ namespace {
 constexpr const char* kCraniumCt = "/usr/share/doc/invesalius-examples/examples/Cranium.inv3";
 
 }  // namespace
-
-DemoJson Acceptance(const std::string& figure, double value, const std::string& op, double limit) {
-  const bool met = op == "<=" ? value <= limit : value >= limit;
-  return {{"figure", figure}, {"value", value}, {"op", op}, {"limit", limit}, {"met", met}};
-}
-
-void ScaleDemoFrames(DemoContext& ctx, double scale) {
-  const auto scaled = [&](double n, double floor) {
-    return static_cast<std::int64_t>(std::max(floor, std::round(n * scale)));
-  };
-  constexpr double kSessionSlots = 600.0;  // evd-usecase frames at scale 1
-  ctx.stage_frames = scaled(160.0, 80.0);  // four stage runs, >= 20 frames each
-  ctx.session_frames = scaled(kSessionSlots, 60.0);
-  // A shorter session keeps the whole headset motion (every n-th slot) rather than its first
-  // seconds: identification and fusion need the views, not the frame rate (docs/suite.md).
-  ctx.session_slot_stride = std::max<std::int64_t>(
-      1, static_cast<std::int64_t>(
-             std::round(kSessionSlots / static_cast<double>(ctx.session_frames))));
-  ctx.depth_eval_frames = static_cast<int>(scaled(24.0, 6.0));
-}
-
-DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stage) {
-  const struct {
-    const char* name;
-    void (*run)(DemoContext&, DemoJson&);
-  } stages[] = {{"marker_error", RunDemoMarkerError},
-                {"session", RunDemoSession},
-                {"depth", RunDemoDepth},
-                {"reconstruction", RunDemoReconstruction},
-                {"registration", RunDemoRegistration},
-                {"tracking", RunDemoTracking},
-                {"guidance", RunDemoGuidance}};
-  DemoJson all = DemoJson::object();
-  for (const auto& s : stages) {
-    DemoJson stage{{"ok", true}, {"error", ""}, {"elapsed_s", 0.0}};
-    const auto stage_start = std::chrono::steady_clock::now();
-    try {
-      if (std::string(s.name) == "session" && !ctx.patient_head) {
-        ctx.patient_head = LoadPatientHead(ctx.head);
-      }
-      s.run(ctx, stage);
-    } catch (const std::exception& e) {
-      stage["ok"] = false;
-      stage["error"] = e.what();
-    }
-    if (after_stage) after_stage();
-    stage["elapsed_s"] =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start).count();
-    all[s.name] = stage;
-    if (!ctx.quiet && ::isatty(STDERR_FILENO) == 1) {  // a line per stage on a terminal
-      std::cerr << "demo: " << s.name << (stage["ok"].get<bool>() ? " ok" : " FAILED") << " ("
-                << stage["elapsed_s"].get<double>() << " s)"
-                << (stage["ok"].get<bool>() ? "" : ": " + stage["error"].get<std::string>())
-                << "\n";
-    }
-  }
-  return all;
-}
 
 int RunDemo(int argc, char** argv) {
   CLI::App app{

@@ -107,7 +107,7 @@ int RunEvaluateDepth(int argc, char** argv) {
 }
 
 namespace {
-[[maybe_unused]] const bool kRegistered =
+[[maybe_unused]] const bool kDepthRegistered =
     RegisterEvaluator({"depth", "depth error per object before/after correction vs simulator truth",
                        RunEvaluateDepth});
 }  // namespace

@@ -17,7 +17,7 @@ namespace {
 
 using OrderedJson = nlohmann::ordered_json;
 
-OrderedJson StatsJson(const Summary& s) {
+OrderedJson GuidanceStatsJson(const Summary& s) {
   return {
       {"count", s.count}, {"median", s.median}, {"iqr", s.iqr()}, {"rms", s.rms}, {"p95", s.p95}};
 }
@@ -50,14 +50,15 @@ int RunEvaluateGuidance(int argc, char** argv) {
     OrderedJson out{{"frames", g.frames},
                     {"unmatched_frames", unmatched},
                     {"trajectories", plan.size()},
-                    {"entry_error_mm", StatsJson(entry)},
-                    {"entry_error_world_mm", StatsJson(world)},
-                    {"direction_error_deg", StatsJson(angle)},
+                    {"entry_error_mm", GuidanceStatsJson(entry)},
+                    {"entry_error_world_mm", GuidanceStatsJson(world)},
+                    {"direction_error_deg", GuidanceStatsJson(angle)},
                     {"per_trajectory", OrderedJson::array()}};
     for (const TrajectoryGuidanceError& t : g.trajectories) {
-      out["per_trajectory"].push_back({{"name", t.name},
-                                       {"entry_error_mm", StatsJson(t.entry_mm)},
-                                       {"direction_error_deg", StatsJson(t.direction_deg)}});
+      out["per_trajectory"].push_back(
+          {{"name", t.name},
+           {"entry_error_mm", GuidanceStatsJson(t.entry_mm)},
+           {"direction_error_deg", GuidanceStatsJson(t.direction_deg)}});
     }
     std::cout << WithOptions(out, app).dump(2) << "\n";
     return EXIT_SUCCESS;
@@ -77,7 +78,7 @@ int RunEvaluateGuidance(int argc, char** argv) {
   return EXIT_SUCCESS;
 }
 
-[[maybe_unused]] const bool kRegistered = RegisterEvaluator(
+[[maybe_unused]] const bool kGuidanceRegistered = RegisterEvaluator(
     {"guidance", "plan placed by tofnav navigate against a simulation's truth (entry, direction)",
      RunEvaluateGuidance});
 

@@ -16,6 +16,7 @@
 #include "evaluate.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/correction/material_study.hpp"
 #include "tofnav/evaluation/material_evaluate.hpp"
@@ -25,9 +26,8 @@ namespace tofnav {
 namespace {
 
 using Json = nlohmann::json;
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
-Json StatsJson(const Summary& s) {  // a Summary of depth errors [mm]
+Json DepthStatsJson(const Summary& s) {  // a Summary of depth errors [mm]
   return {{"count", s.count}, {"median_mm", s.median}, {"iqr_mm", s.iqr()}, {"q1_mm", s.p25},
           {"q3_mm", s.p75},   {"mean_mm", s.mean},     {"std_mm", s.sd}};
 }
@@ -36,8 +36,8 @@ Json CellsJson(const std::vector<MaterialCell>& cells, const std::vector<std::st
   Json out = Json::array();
   for (const MaterialCell& c : cells) {
     Json j{{"material", names[static_cast<std::size_t>(c.material)]},
-           {"vs_reference", StatsJson(c.vs_reference_mm)},
-           {"vs_truth", StatsJson(c.vs_truth_mm)}};
+           {"vs_reference", DepthStatsJson(c.vs_reference_mm)},
+           {"vs_truth", DepthStatsJson(c.vs_truth_mm)}};
     if (std::isfinite(c.depth_max_mm)) j["depth_mm"] = {c.depth_min_mm, c.depth_max_mm};
     if (std::isfinite(c.angle_max_rad)) {
       j["angle_deg"] = {c.angle_min_rad * kRadToDeg, c.angle_max_rad * kRadToDeg};
@@ -160,7 +160,7 @@ int RunEvaluateMaterials(int argc, char** argv) {
 }
 
 namespace {
-[[maybe_unused]] const bool kRegistered = RegisterEvaluator(
+[[maybe_unused]] const bool kMaterialsRegistered = RegisterEvaluator(
     {"materials", "depth error per material vs the IR-tape reference plane and truth",
      RunEvaluateMaterials});
 }  // namespace

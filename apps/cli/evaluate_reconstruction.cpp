@@ -18,7 +18,7 @@
 namespace tofnav {
 namespace {
 
-nlohmann::ordered_json StatsJson(const SurfaceErrorStats& s) {
+nlohmann::ordered_json SurfaceStatsJson(const SurfaceErrorStats& s) {
   return {{"count", s.abs_mm.count},
           {"median_mm", s.abs_mm.median},
           {"iqr_mm", s.abs_mm.iqr()},
@@ -124,12 +124,12 @@ int RunEvaluateReconstruction(int argc, char** argv) {
                          {"material", o.material},
                          {"row", o.row},
                          {"size", o.size},
-                         {"stats", StatsJson(o.stats)}});
+                         {"stats", SurfaceStatsJson(o.stats)}});
     }
     const nlohmann::ordered_json out{
         {"surface", surface_path.string()}, {"vertices", e.vertices},
         {"outliers", e.outliers},           {"max_distance_mm", options.max_distance_mm},
-        {"all", StatsJson(e.all)},          {"objects", objects}};
+        {"all", SurfaceStatsJson(e.all)},   {"objects", objects}};
     std::cout << WithOptions(out, app).dump(2) << "\n";
     return EXIT_SUCCESS;
   }
@@ -150,7 +150,7 @@ int RunEvaluateReconstruction(int argc, char** argv) {
 }
 
 namespace {
-[[maybe_unused]] const bool kRegistered = RegisterEvaluator(
+[[maybe_unused]] const bool kReconstructionRegistered = RegisterEvaluator(
     {"reconstruction", "surface error against a simulation's true objects (Table II)",
      RunEvaluateReconstruction});
 }  // namespace

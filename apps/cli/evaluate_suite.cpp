@@ -165,7 +165,7 @@ int RunEvaluateSuite(int argc, char** argv) {
   return all_ran ? EXIT_SUCCESS : EXIT_FAILURE;
 }
 
-[[maybe_unused]] const bool kRegistered = RegisterEvaluator(
+[[maybe_unused]] const bool kSuiteRegistered = RegisterEvaluator(
     {"suite", "the robustness suite: simulate and run every case of a suite file (docs/suite.md)",
      RunEvaluateSuite});
 

@@ -9,14 +9,13 @@
 #include "config_json.hpp"
 #include "evaluate.hpp"
 #include "tofnav/casefile/tool_poses_io.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/evaluation/tracking_truth.hpp"
 
 namespace tofnav {
 namespace {
 
 using OrderedJson = nlohmann::ordered_json;
-
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 OrderedJson StatsJson(const PoseErrorStats& s) {
   const Summary& mm = s.position_mm;
@@ -126,7 +125,7 @@ int RunEvaluateTracking(int argc, char** argv) {
   return EXIT_SUCCESS;
 }
 
-[[maybe_unused]] const bool kRegistered =
+[[maybe_unused]] const bool kTrackingRegistered =
     RegisterEvaluator({"tracking", "tool poses (tofnav track) against a simulation's truth.json",
                        RunEvaluateTracking});
 

@@ -13,6 +13,7 @@
 #include "progress.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/casefile/tool_json.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/pipeline/marker_tasks.hpp"
 #include "tofnav/tracking/pivot_calibration.hpp"
 
@@ -67,7 +68,6 @@ int RunPivot(int argc, char** argv) {
   PivotCalibrationOptions options;
   options.min_angular_range_rad = min_range_deg * std::numbers::pi / 180.0;
   const PivotCalibrationResult result = CalibratePivot(reference_from_instrument, options);
-  constexpr double kRadToDeg = 180.0 / std::numbers::pi;
   const auto vector = [](const Eigen::Vector3d& v) { return nlohmann::json{v.x(), v.y(), v.z()}; };
   nlohmann::ordered_json summary{{"recording", source_args.recording.string()},
                                  {"frames", source.frames},

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "tofnav/casefile/json_number.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
 #include "tofnav/io/json_bytes.hpp"
@@ -14,21 +15,21 @@
 namespace tofnav {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 
 constexpr const char* kFormat = "tofnav-marker-range-error";
-constexpr std::size_t kMaxKnots = 100000;
 
-std::vector<double> Numbers(const Json& json, const char* key, const std::filesystem::path& path) {
+std::vector<double> Numbers(const OrderedJson& json, const char* key,
+                            const std::filesystem::path& path) {
   const auto it = json.find(key);
   if (it == json.end() || !it->is_array()) {
     throw IoError(path, std::nullopt, std::string("expected \"") + key + "\": [numbers]");
   }
-  if (it->size() > kMaxKnots) {
+  if (it->size() > kMaxJsonKnots) {
     throw IoError(path, std::nullopt, std::string("\"") + key + "\" has more than 100000 values");
   }
   std::vector<double> out;
-  for (const Json& v : *it) {
+  for (const OrderedJson& v : *it) {
     if (!v.is_number() || !std::isfinite(v.get<double>())) {
       throw IoError(path, std::nullopt, std::string("\"") + key + "\" must hold finite numbers");
     }
@@ -37,7 +38,7 @@ std::vector<double> Numbers(const Json& json, const char* key, const std::filesy
   return out;
 }
 
-double NumberOr(const Json& json, const char* key, double fallback,
+double NumberOr(const OrderedJson& json, const char* key, double fallback,
                 const std::filesystem::path& path) {
   const auto it = json.find(key);
   if (it == json.end()) return fallback;
@@ -51,31 +52,31 @@ double NumberOr(const Json& json, const char* key, double fallback,
 
 std::string EncodeMarkerRangeJson(const MarkerRangeFile& file) {
   const CubicSpline& s = file.model.bias_mm;
-  Json json{{"format", kFormat},
-            {"version", 1},
-            {"range_unit", "mm"},
-            {"description",
-             "f_rf(d): retro-reflector range error [mm] at measured surface range d [mm], a "
-             "natural cubic spline, linear outside the knots; corrected range d - f_rf(d)"},
-            {"smoothing_p", file.model.smoothing_p},
-            {"knots_mm", s.x},
-            {"bias_mm", s.value},
-            {"second_derivative_per_mm", s.second_derivative},
-            {"fit",
-             {{"samples", file.fit.samples},
-              {"frames", file.fit.frames},
-              {"rms_residual_mm", file.fit.rms_residual_mm},
-              {"effective_dof", file.fit.effective_dof},
-              {"smoothing", file.fit.smoothing}}}};
+  OrderedJson json{{"format", kFormat},
+                   {"version", 1},
+                   {"range_unit", "mm"},
+                   {"description",
+                    "f_rf(d): retro-reflector range error [mm] at measured surface range d [mm], a "
+                    "natural cubic spline, linear outside the knots; corrected range d - f_rf(d)"},
+                   {"smoothing_p", file.model.smoothing_p},
+                   {"knots_mm", s.x},
+                   {"bias_mm", s.value},
+                   {"second_derivative_per_mm", s.second_derivative},
+                   {"fit",
+                    {{"samples", file.fit.samples},
+                     {"frames", file.fit.frames},
+                     {"rms_residual_mm", file.fit.rms_residual_mm},
+                     {"effective_dof", file.fit.effective_dof},
+                     {"smoothing", file.fit.smoothing}}}};
   return json.dump(2) + "\n";
 }
 
 MarkerRangeFile DecodeMarkerRangeJson(std::string_view text, const std::filesystem::path& path) {
-  const Json json = ParseJsonText<Json>(text, path);
-  if (!json.is_object() || json.value("format", Json()) != kFormat) {
+  const OrderedJson json = ParseJsonText<OrderedJson>(text, path);
+  if (!json.is_object() || json.value("format", OrderedJson()) != kFormat) {
     throw IoError(path, std::nullopt, std::string("expected {\"format\": \"") + kFormat + "\"}");
   }
-  if (json.value("range_unit", Json("mm")) != "mm") {
+  if (json.value("range_unit", OrderedJson("mm")) != "mm") {
     throw IoError(path, std::nullopt, "\"range_unit\" must be \"mm\"");
   }
   MarkerRangeFile file;

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "tofnav/casefile/json_number.hpp"
 #include "tofnav/io/binary.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
@@ -14,28 +15,22 @@
 namespace tofnav {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 
 constexpr std::size_t kRomCountOffset = 28;
 constexpr std::size_t kRomMarkersOffset = 72;
 
-double Number(const Json& value, const std::filesystem::path& path, const std::string& what) {
-  if (!value.is_number()) throw IoError(path, std::nullopt, what + " must be a number");
-  const double x = value.get<double>();
-  if (!std::isfinite(x)) throw IoError(path, std::nullopt, what + " must be finite");
-  return x;
-}
-
-Eigen::Vector3d Vector(const Json& value, const std::filesystem::path& path,
+Eigen::Vector3d Vector(const OrderedJson& value, const std::filesystem::path& path,
                        const std::string& what) {
   if (!value.is_array() || value.size() != 3) {
     throw IoError(path, std::nullopt, what + " must be an array of 3 numbers");
   }
-  return {Number(value[0], path, what), Number(value[1], path, what), Number(value[2], path, what)};
+  return {FiniteJsonNumber(value[0], path, what), FiniteJsonNumber(value[1], path, what),
+          FiniteJsonNumber(value[2], path, what)};
 }
 
 // The first present key of `names`, or nullptr.
-const Json* Find(const Json& object, std::initializer_list<const char*> names) {
+const OrderedJson* Find(const OrderedJson& object, std::initializer_list<const char*> names) {
   for (const char* name : names) {
     const auto it = object.find(name);
     if (it != object.end()) return &*it;
@@ -55,20 +50,20 @@ ToolGeometry Checked(ToolGeometry tool, const std::filesystem::path& path) {
 }  // namespace
 
 ToolGeometry DecodeToolJson(std::string_view text, const std::filesystem::path& path) {
-  Json json;
+  OrderedJson json;
   try {
-    json = Json::parse(text.begin(), text.end());
-  } catch (const Json::parse_error& e) {
+    json = OrderedJson::parse(text.begin(), text.end());
+  } catch (const OrderedJson::parse_error& e) {
     throw IoError(path, e.byte > 0 ? e.byte - 1 : 0, std::string("malformed JSON: ") + e.what());
-  } catch (const Json::exception& e) {  // e.g. a number that overflows a double
+  } catch (const OrderedJson::exception& e) {  // e.g. a number that overflows a double
     throw IoError(path, std::nullopt, std::string("malformed JSON: ") + e.what());
   }
   if (!json.is_object()) throw IoError(path, std::nullopt, "expected a JSON object");
   ToolGeometry tool;
-  const Json* name = Find(json, {"name"});
+  const OrderedJson* name = Find(json, {"name"});
   if (name == nullptr || !name->is_string()) throw IoError(path, std::nullopt, "expected \"name\"");
   tool.name = name->get<std::string>();
-  const Json* markers = Find(json, {"markers"});
+  const OrderedJson* markers = Find(json, {"markers"});
   if (markers == nullptr || !markers->is_array()) {
     throw IoError(path, std::nullopt, "expected \"markers\": [[x, y, z], ...]");
   }
@@ -76,7 +71,7 @@ ToolGeometry DecodeToolJson(std::string_view text, const std::filesystem::path& 
     tool.markers_in_tool.push_back(
         Vector((*markers)[i], path, "markers[" + std::to_string(i) + "]"));
   }
-  if (const Json* type = Find(json, {"marker_type"})) {
+  if (const OrderedJson* type = Find(json, {"marker_type"})) {
     const std::string t = type->is_string() ? type->get<std::string>() : "";
     if (t == "sphere") {
       tool.marker_type = MarkerType::kSphere;
@@ -86,25 +81,26 @@ ToolGeometry DecodeToolJson(std::string_view text, const std::filesystem::path& 
       throw IoError(path, std::nullopt, "marker_type must be \"sphere\" or \"flat\"");
     }
   }
-  if (const Json* d = Find(json, {"marker_diameter_mm", "marker_diameter"})) {
-    tool.marker_diameter_mm = Number(*d, path, "marker_diameter_mm");
+  if (const OrderedJson* d = Find(json, {"marker_diameter_mm", "marker_diameter"})) {
+    tool.marker_diameter_mm = FiniteJsonNumber(*d, path, "marker_diameter_mm");
   }
-  if (const Json* v = Find(json, {"min_visible"})) {
+  if (const OrderedJson* v = Find(json, {"min_visible"})) {
     if (!v->is_number_integer())
       throw IoError(path, std::nullopt, "min_visible must be an integer");
     tool.min_visible = v->get<int>();
   }
-  if (const Json* f = Find(json, {"max_fre_mm"})) tool.max_fre_mm = Number(*f, path, "max_fre_mm");
-  if (const Json* tip = Find(json, {"tip_mm", "tip"}); tip != nullptr && !tip->is_null()) {
+  if (const OrderedJson* f = Find(json, {"max_fre_mm"}))
+    tool.max_fre_mm = FiniteJsonNumber(*f, path, "max_fre_mm");
+  if (const OrderedJson* tip = Find(json, {"tip_mm", "tip"}); tip != nullptr && !tip->is_null()) {
     tool.tip_in_tool = Vector(*tip, path, "tip_mm");
   }
   return Checked(std::move(tool), path);
 }
 
 std::string EncodeToolJson(const ToolGeometry& tool) {
-  Json json;
+  OrderedJson json;
   json["name"] = tool.name;
-  Json markers = Json::array();
+  OrderedJson markers = OrderedJson::array();
   for (const Eigen::Vector3d& p : tool.markers_in_tool) markers.push_back({p.x(), p.y(), p.z()});
   json["markers"] = markers;
   json["marker_type"] = tool.marker_type == MarkerType::kSphere ? "sphere" : "flat";

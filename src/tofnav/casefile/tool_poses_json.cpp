@@ -11,30 +11,31 @@
 namespace tofnav {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 using internal::PoseFromValues;
 using internal::StatusFromName;
 
 constexpr std::int64_t kMaxInt64 = std::numeric_limits<std::int64_t>::max();
 constexpr std::int64_t kMaxMarkers = 1000;
 
-Json PoseJson(const std::optional<Rigid3d>& pose) {
+OrderedJson PoseJson(const std::optional<Rigid3d>& pose) {
   if (!pose) return nullptr;
   const Eigen::Quaterniond& q = pose->rotation;
   const Eigen::Vector3d& t = pose->translation;
-  return Json{{"q_wxyz", {q.w(), q.x(), q.y(), q.z()}}, {"t_mm", {t.x(), t.y(), t.z()}}};
+  return OrderedJson{{"q_wxyz", {q.w(), q.x(), q.y(), q.z()}}, {"t_mm", {t.x(), t.y(), t.z()}}};
 }
 
-const Json& Field(const Json& object, const char* key, const std::filesystem::path& path) {
+const OrderedJson& Field(const OrderedJson& object, const char* key,
+                         const std::filesystem::path& path) {
   const auto it = object.find(key);
   if (it == object.end()) throw IoError(path, std::nullopt, std::string("missing \"") + key + "\"");
   return *it;
 }
 
 // Integers are range-checked here: nlohmann converts out-of-range numbers without a check.
-std::int64_t GetInt(const Json& object, const char* key, std::int64_t min, std::int64_t max,
+std::int64_t GetInt(const OrderedJson& object, const char* key, std::int64_t min, std::int64_t max,
                     const std::filesystem::path& path) {
-  const Json& v = Field(object, key, path);
+  const OrderedJson& v = Field(object, key, path);
   if (!v.is_number_integer() ||
       (v.is_number_unsigned() && v.get<std::uint64_t>() > static_cast<std::uint64_t>(kMaxInt64)) ||
       v.get<std::int64_t>() < min || v.get<std::int64_t>() > max) {
@@ -45,26 +46,27 @@ std::int64_t GetInt(const Json& object, const char* key, std::int64_t min, std::
   return v.get<std::int64_t>();
 }
 
-double GetDouble(const Json& object, const char* key, const std::filesystem::path& path) {
-  const Json& v = Field(object, key, path);
+double GetDouble(const OrderedJson& object, const char* key, const std::filesystem::path& path) {
+  const OrderedJson& v = Field(object, key, path);
   if (!v.is_number())
     throw IoError(path, std::nullopt, std::string("\"") + key + "\" must be a number");
   return v.get<double>();
 }
 
-std::string GetString(const Json& object, const char* key, const std::filesystem::path& path) {
-  const Json& v = Field(object, key, path);
+std::string GetString(const OrderedJson& object, const char* key,
+                      const std::filesystem::path& path) {
+  const OrderedJson& v = Field(object, key, path);
   if (!v.is_string())
     throw IoError(path, std::nullopt, std::string("\"") + key + "\" must be a string");
   return v.get<std::string>();
 }
 
-std::vector<double> GetNumbers(const Json& object, const char* key, std::size_t count,
+std::vector<double> GetNumbers(const OrderedJson& object, const char* key, std::size_t count,
                                const std::filesystem::path& path) {
-  const Json& v = Field(object, key, path);
+  const OrderedJson& v = Field(object, key, path);
   std::vector<double> out;
   if (v.is_array() && v.size() == count) {
-    for (const Json& x : v) {
+    for (const OrderedJson& x : v) {
       if (!x.is_number()) break;
       out.push_back(x.get<double>());
     }
@@ -76,7 +78,7 @@ std::vector<double> GetNumbers(const Json& object, const char* key, std::size_t 
   return out;
 }
 
-std::optional<Rigid3d> PoseFromJson(const Json& record, const char* key,
+std::optional<Rigid3d> PoseFromJson(const OrderedJson& record, const char* key,
                                     const std::filesystem::path& path) {
   const auto it = record.find(key);
   if (it == record.end() || it->is_null()) return std::nullopt;
@@ -92,8 +94,8 @@ namespace internal {
 
 std::vector<ToolPoseRecord> DecodeToolPosesJson(std::string_view text,
                                                 const std::filesystem::path& path) {
-  const Json json = ParseJsonText<Json>(text, path);
-  if (!json.is_object() || json.value("format", Json()) != "tofnav-tool-poses") {
+  const OrderedJson json = ParseJsonText<OrderedJson>(text, path);
+  if (!json.is_object() || json.value("format", OrderedJson()) != "tofnav-tool-poses") {
     throw IoError(path, std::nullopt, "expected {\"format\": \"tofnav-tool-poses\", ...}");
   }
   const auto records_it = json.find("records");
@@ -101,7 +103,7 @@ std::vector<ToolPoseRecord> DecodeToolPosesJson(std::string_view text,
     throw IoError(path, std::nullopt, "expected \"records\": [...]");
   }
   std::vector<ToolPoseRecord> records;
-  for (const Json& j : *records_it) {
+  for (const OrderedJson& j : *records_it) {
     if (!j.is_object()) throw IoError(path, std::nullopt, "records must be objects");
     ToolPoseRecord r;
     r.frame = GetInt(j, "frame", 0, kMaxInt64, path);
@@ -112,7 +114,7 @@ std::vector<ToolPoseRecord> DecodeToolPosesJson(std::string_view text,
     r.markers_used = static_cast<int>(GetInt(j, "markers_used", 0, kMaxMarkers, path));
     r.marker_count = static_cast<int>(GetInt(j, "marker_count", 0, kMaxMarkers, path));
     r.fre_mm = GetDouble(j, "fre_mm", path);
-    const Json& gated = Field(j, "gated", path);
+    const OrderedJson& gated = Field(j, "gated", path);
     if (!gated.is_boolean()) throw IoError(path, std::nullopt, "\"gated\" must be true or false");
     r.gated = gated.get<bool>();
     r.ahat_from_tool = PoseFromJson(j, "ahat_from_tool", path);
@@ -126,20 +128,22 @@ std::vector<ToolPoseRecord> DecodeToolPosesJson(std::string_view text,
 }  // namespace internal
 
 std::string EncodeToolPosesJson(std::span<const ToolPoseRecord> records) {
-  Json json{{"format", "tofnav-tool-poses"}, {"version", 1}, {"records", Json::array()}};
+  OrderedJson json{
+      {"format", "tofnav-tool-poses"}, {"version", 1}, {"records", OrderedJson::array()}};
   for (const ToolPoseRecord& r : records) {
-    json["records"].push_back(Json{{"frame", r.frame},
-                                   {"host_ticks", r.host_ticks},
-                                   {"time_s", r.time_s},
-                                   {"tool", r.tool},
-                                   {"status", ToString(r.status)},
-                                   {"markers_used", r.markers_used},
-                                   {"marker_count", r.marker_count},
-                                   {"fre_mm", r.fre_mm},
-                                   {"gated", r.gated},
-                                   {"ahat_from_tool", PoseJson(r.ahat_from_tool)},
-                                   {"filtered_ahat_from_tool", PoseJson(r.filtered_ahat_from_tool)},
-                                   {"world_from_tool", PoseJson(r.world_from_tool)}});
+    json["records"].push_back(
+        OrderedJson{{"frame", r.frame},
+                    {"host_ticks", r.host_ticks},
+                    {"time_s", r.time_s},
+                    {"tool", r.tool},
+                    {"status", ToString(r.status)},
+                    {"markers_used", r.markers_used},
+                    {"marker_count", r.marker_count},
+                    {"fre_mm", r.fre_mm},
+                    {"gated", r.gated},
+                    {"ahat_from_tool", PoseJson(r.ahat_from_tool)},
+                    {"filtered_ahat_from_tool", PoseJson(r.filtered_ahat_from_tool)},
+                    {"world_from_tool", PoseJson(r.world_from_tool)}});
   }
   return json.dump(1) + "\n";
 }

@@ -18,7 +18,7 @@
 namespace tofnav {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 
 std::string LowerExtension(const std::filesystem::path& path) {
   std::string extension = path.extension().string();
@@ -37,8 +37,8 @@ std::optional<std::uint64_t> KeyOffset(std::span<const std::uint8_t> bytes, std:
   return static_cast<std::uint64_t>(at - bytes.begin());
 }
 
-std::string FrameName(const Json& doc, std::string_view key, std::span<const std::uint8_t> bytes,
-                      const std::filesystem::path& source) {
+std::string FrameName(const OrderedJson& doc, std::string_view key,
+                      std::span<const std::uint8_t> bytes, const std::filesystem::path& source) {
   const auto it = doc.find(std::string(key));
   if (it == doc.end())
     throw IoError(source, std::nullopt, "missing key \"" + std::string(key) + "\"");
@@ -49,7 +49,7 @@ std::string FrameName(const Json& doc, std::string_view key, std::span<const std
   return it->get<std::string>();
 }
 
-Eigen::Matrix4d MatrixFromJson(const Json& rows, std::span<const std::uint8_t> bytes,
+Eigen::Matrix4d MatrixFromJson(const OrderedJson& rows, std::span<const std::uint8_t> bytes,
                                const std::filesystem::path& source) {
   const auto fail = [&] {
     throw IoError(source, KeyOffset(bytes, "target_from_source"),
@@ -58,10 +58,10 @@ Eigen::Matrix4d MatrixFromJson(const Json& rows, std::span<const std::uint8_t> b
   if (!rows.is_array() || rows.size() != 4) fail();
   Eigen::Matrix4d matrix;
   for (int r = 0; r < 4; ++r) {
-    const Json& row = rows[static_cast<std::size_t>(r)];
+    const OrderedJson& row = rows[static_cast<std::size_t>(r)];
     if (!row.is_array() || row.size() != 4) fail();
     for (int c = 0; c < 4; ++c) {
-      const Json& value = row[static_cast<std::size_t>(c)];
+      const OrderedJson& value = row[static_cast<std::size_t>(c)];
       if (!value.is_number()) fail();
       matrix(r, c) = value.get<double>();
     }
@@ -73,7 +73,7 @@ Eigen::Matrix4d MatrixFromJson(const Json& rows, std::span<const std::uint8_t> b
 
 NamedTransform DecodeTransformJson(std::span<const std::uint8_t> bytes,
                                    const std::filesystem::path& source) {
-  const Json doc = ParseJsonBytes<Json>(bytes, source);
+  const OrderedJson doc = ParseJsonBytes<OrderedJson>(bytes, source);
   if (!doc.is_object()) throw IoError(source, 0, "expected a JSON object");
   for (const auto& [key, value] : doc.items()) {
     if (key != "target_frame" && key != "source_frame" && key != "units" &&
@@ -94,7 +94,7 @@ NamedTransform DecodeTransformJson(std::span<const std::uint8_t> bytes,
       RigidFromMatrix(MatrixFromJson(doc["target_from_source"], bytes, source), source,
                       KeyOffset(bytes, "target_from_source"));
   if (doc.contains("quality")) {
-    const Json& quality = doc["quality"];
+    const OrderedJson& quality = doc["quality"];
     if (!quality.is_object()) {
       throw IoError(source, KeyOffset(bytes, "quality"), "\"quality\": expected an object");
     }
@@ -112,14 +112,14 @@ std::string EncodeTransformJson(const NamedTransform& transform) {
   Require(IsFrameName(transform.target_frame) && IsFrameName(transform.source_frame),
           "EncodeTransformJson: frame names must be letters, digits and '_'");
   const Eigen::Matrix4d m = transform.target_from_source.ToMatrix();
-  Json rows = Json::array();
+  OrderedJson rows = OrderedJson::array();
   for (int r = 0; r < 4; ++r) rows.push_back({m(r, 0), m(r, 1), m(r, 2), m(r, 3)});
-  Json doc{{"target_frame", transform.target_frame},
-           {"source_frame", transform.source_frame},
-           {"units", "mm"},
-           {"target_from_source", rows}};
+  OrderedJson doc{{"target_frame", transform.target_frame},
+                  {"source_frame", transform.source_frame},
+                  {"units", "mm"},
+                  {"target_from_source", rows}};
   if (!transform.figures.empty()) {
-    Json quality = Json::object();
+    OrderedJson quality = OrderedJson::object();
     for (const auto& [name, value] : transform.figures) {
       Require(std::isfinite(value), "EncodeTransformJson: figures must be finite");
       quality[name] = value;

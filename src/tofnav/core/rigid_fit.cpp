@@ -44,16 +44,4 @@ RigidFitResult FitRigid(std::span<const Eigen::Vector3d> source,
   return result;
 }
 
-Eigen::MatrixXd CentredRows(std::span<const Eigen::Vector3d> points, Eigen::Vector3d& centroid) {
-  Require(!points.empty(), "CentredRows: no points");
-  centroid = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) centroid += p;
-  centroid /= static_cast<double>(points.size());
-  Eigen::MatrixXd centred(static_cast<Eigen::Index>(points.size()), 3);
-  for (std::size_t i = 0; i < points.size(); ++i) {
-    centred.row(static_cast<Eigen::Index>(i)) = (points[i] - centroid).transpose();
-  }
-  return centred;
-}
-
 }  // namespace tofnav

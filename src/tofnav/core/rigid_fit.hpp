@@ -25,8 +25,4 @@ struct RigidFitResult {
 RigidFitResult FitRigid(std::span<const Eigen::Vector3d> source,
                         std::span<const Eigen::Vector3d> target);
 
-/// The points minus their centroid, one per row (n x 3), for principal axes and spreads.
-/// Sets `centroid`; PreconditionError on no points.
-Eigen::MatrixXd CentredRows(std::span<const Eigen::Vector3d> points, Eigen::Vector3d& centroid);
-
 }  // namespace tofnav

@@ -2,11 +2,12 @@
 // Automatic head region of one AHAT range image: large planes and flat or small parts removed.
 #include "tofnav/correction/head_region.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
+
+#include "tofnav/core/dense_solvers.hpp"
 
 namespace tofnav {
 namespace {
@@ -45,8 +46,8 @@ std::optional<Plane> FitPlane(const std::vector<Eigen::Vector3f>& points) {
     const Eigen::Vector3d d = p.cast<double>() - mean;
     cov += d * d.transpose();
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
-  const Eigen::Vector3d n = eig.eigenvectors().col(0);
+  const auto eig = DecomposeSymmetric(cov);
+  const Eigen::Vector3d n = eig.vectors.col(0);
   return Plane{n.cast<float>(), static_cast<float>(-n.dot(mean))};
 }
 

@@ -2,13 +2,13 @@
 // The samples of one frame that the identification (Eq. 5-7) needs, extracted once per frame.
 #include "tofnav/correction/identification_frame.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/QR>
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/frame_batches.hpp"
 #include "tofnav/correction/correct_range.hpp"
 #include "tofnav/correction/depth_error_model.hpp"
@@ -36,7 +36,7 @@ std::pair<Eigen::Vector3d, Eigen::Matrix3d> PrincipalAxes(const Points3d& points
   mean /= static_cast<double>(points.size());
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   for (const Eigen::Vector3d& p : points) cov += (p - mean) * (p - mean).transpose();
-  return {mean, Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors()};
+  return {mean, DecomposeSymmetric(cov).vectors};
 }
 
 // Local frame of a patch from its measured points: centroid and PCA axes (z = least variance,

@@ -2,7 +2,6 @@
 // Reference plane fit, the paper's per-point depth error and the per-material summaries.
 #include "tofnav/correction/material_study.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,6 +9,7 @@
 #include <tuple>
 #include <utility>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 
 namespace tofnav {
@@ -32,13 +32,13 @@ std::optional<ReferencePlane> FitPlane(std::span<const Eigen::Vector3d> points,
   for (std::size_t i = 0; i < points.size(); ++i) {
     if (use[i]) cov += (points[i] - mean) * (points[i] - mean).transpose();
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  const auto eig = DecomposeSymmetric(cov);
   ReferencePlane plane;
-  plane.normal = eig.eigenvectors().col(0);
+  plane.normal = eig.vectors.col(0);
   plane.offset_mm = -plane.normal.dot(mean);
   if (plane.offset_mm < 0.0) plane.normal = -plane.normal, plane.offset_mm = -plane.offset_mm;
   plane.inliers = n;
-  plane.rms_mm = std::sqrt(std::max(0.0, eig.eigenvalues()(0)) / n);
+  plane.rms_mm = std::sqrt(std::max(0.0, eig.values(0)) / n);
   return plane;
 }
 

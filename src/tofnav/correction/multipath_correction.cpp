@@ -4,7 +4,6 @@
 // this inverse against that rendering, and a shared piece would hide a shared mistake.
 #include "tofnav/correction/multipath_correction.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <complex>
@@ -13,6 +12,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/parallel_for.hpp"
 
 namespace tofnav {
@@ -94,9 +94,9 @@ std::optional<Patch> BlockPatch(const Image<float>& range, const Image<float>& a
   if (count < 3) return std::nullopt;
   const Eigen::Vector3d mean = sum / count;
   const Eigen::Matrix3d cov = outer / count - mean * mean.transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  const auto eig = DecomposeSymmetric(cov);
   const Eigen::Vector3d ray = camera.PixelRay(best_u, best_v).cast<double>();
-  Eigen::Vector3d n = eig.eigenvectors().col(0);
+  Eigen::Vector3d n = eig.vectors.col(0);
   if (n.dot(ray) > 0.0) n = -n;
   const double omega = PixelSolidAngle(camera, best_u, best_v);
   if (omega <= 0.0) return std::nullopt;

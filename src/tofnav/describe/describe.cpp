@@ -11,6 +11,7 @@
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/core/statistics.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/describe/describe_json.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
@@ -26,8 +27,7 @@
 namespace tofnav {
 namespace {
 
-using Json = nlohmann::ordered_json;
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+using OrderedJson = nlohmann::ordered_json;
 
 // Quantile of a histogram of integer values (q in [0, 1]); -1 when empty.
 double HistogramQuantile(const std::vector<std::uint64_t>& histogram, double q) {
@@ -35,16 +35,17 @@ double HistogramQuantile(const std::vector<std::uint64_t>& histogram, double q) 
   return empty ? -1.0 : QuantileOfCounts(histogram, q);
 }
 
-Json RigidJson(const Rigid3d& b_from_a) {
+OrderedJson RigidJson(const Rigid3d& b_from_a) {
   const Eigen::AngleAxisd angle_axis(b_from_a.rotation);
-  return Json{{"translation_mm",
-               {b_from_a.translation.x(), b_from_a.translation.y(), b_from_a.translation.z()}},
-              {"rotation_deg", angle_axis.angle() * kRadToDeg}};
+  return OrderedJson{
+      {"translation_mm",
+       {b_from_a.translation.x(), b_from_a.translation.y(), b_from_a.translation.z()}},
+      {"rotation_deg", angle_axis.angle() * kRadToDeg}};
 }
 
-Json TimingJson(const AhatRecording& recording) {
+OrderedJson TimingJson(const AhatRecording& recording) {
   const std::size_t n = recording.frame_count();
-  Json timing{{"frames", n}};
+  OrderedJson timing{{"frames", n}};
   if (n == 0) return timing;
   const double first_s = static_cast<double>(recording.host_ticks(0)) * kSecondsPerHostTick;
   const double last_s = static_cast<double>(recording.host_ticks(n - 1)) * kSecondsPerHostTick;
@@ -66,7 +67,7 @@ Json TimingJson(const AhatRecording& recording) {
   return timing;
 }
 
-Json FrameStatisticsJson(const AhatRecording& recording, std::size_t sample_frames) {
+OrderedJson FrameStatisticsJson(const AhatRecording& recording, std::size_t sample_frames) {
   const std::size_t n = recording.frame_count();
   const std::size_t count = (sample_frames == 0 || sample_frames >= n) ? n : sample_frames;
   std::vector<std::uint64_t> range_histogram(4096, 0);
@@ -87,7 +88,7 @@ Json FrameStatisticsJson(const AhatRecording& recording, std::size_t sample_fram
   }
   const std::uint64_t invalid = range_histogram[0];
   range_histogram[0] = 0;
-  return Json{
+  return OrderedJson{
       {"sampled_frames", count},
       {"frames_with_pose", posed},
       {"valid_depth_fraction",
@@ -104,7 +105,7 @@ Json FrameStatisticsJson(const AhatRecording& recording, std::size_t sample_fram
       {"ab_lossy", ab_lossy}};
 }
 
-Json CalibrationJson(const AhatCalibration& calibration) {
+OrderedJson CalibrationJson(const AhatCalibration& calibration) {
   const AhatCamera camera(calibration);
   std::size_t valid = 0;
   for (int v = 0; v < camera.height(); ++v) {
@@ -119,26 +120,26 @@ Json CalibrationJson(const AhatCalibration& calibration) {
   const double fov_rad = std::acos(std::clamp(
       static_cast<double>(camera.PixelRay(left, row).dot(camera.PixelRay(right, row))), -1.0, 1.0));
   const Eigen::Vector3d axis_in_rig = camera.rig_from_ahat().rotation * Eigen::Vector3d::UnitZ();
-  return Json{{"size", {calibration.uv2xy.width(), calibration.uv2xy.height()}},
-              {"sample_offset_px", calibration.sample_offset_px},
-              {"valid_pixels", valid},
-              {"centre_row_fov_deg", fov_rad * kRadToDeg},
-              {"rig_from_ahat", RigidJson(calibration.rig_from_ahat)},
-              {"optical_axis_in_rig", {axis_in_rig.x(), axis_in_rig.y(), axis_in_rig.z()}},
-              {"pinhole_fx_fy_cx_cy",
-               {calibration.pinhole_fx_fy_cx_cy[0], calibration.pinhole_fx_fy_cx_cy[1],
-                calibration.pinhole_fx_fy_cx_cy[2], calibration.pinhole_fx_fy_cx_cy[3]}},
-              {"undistort_map", !calibration.undistort_map.empty()},
-              {"scale", calibration.scale},
-              {"alias_mm", calibration.alias_mm}};
+  return OrderedJson{{"size", {calibration.uv2xy.width(), calibration.uv2xy.height()}},
+                     {"sample_offset_px", calibration.sample_offset_px},
+                     {"valid_pixels", valid},
+                     {"centre_row_fov_deg", fov_rad * kRadToDeg},
+                     {"rig_from_ahat", RigidJson(calibration.rig_from_ahat)},
+                     {"optical_axis_in_rig", {axis_in_rig.x(), axis_in_rig.y(), axis_in_rig.z()}},
+                     {"pinhole_fx_fy_cx_cy",
+                      {calibration.pinhole_fx_fy_cx_cy[0], calibration.pinhole_fx_fy_cx_cy[1],
+                       calibration.pinhole_fx_fy_cx_cy[2], calibration.pinhole_fx_fy_cx_cy[3]}},
+                     {"undistort_map", !calibration.undistort_map.empty()},
+                     {"scale", calibration.scale},
+                     {"alias_mm", calibration.alias_mm}};
 }
 
-Json RecordingJson(const AhatRecording& recording, const DescribeOptions& options) {
-  Json out{{"kind", "recording"}, {"format", recording.format()}};
+OrderedJson RecordingJson(const AhatRecording& recording, const DescribeOptions& options) {
+  OrderedJson out{{"kind", "recording"}, {"format", recording.format()}};
   out["timing"] = TimingJson(recording);
   if (const auto* hl2ss = dynamic_cast<const Hl2ssRecording*>(&recording)) {
     const Hl2ssAhatConfig& config = hl2ss->config();
-    out["hl2ss"] = Json{
+    out["hl2ss"] = OrderedJson{
         {"mode", config.mode},
         {"divisor", config.divisor},
         {"profile_z", static_cast<int>(config.profile_z)},
@@ -156,9 +157,9 @@ Json RecordingJson(const AhatRecording& recording, const DescribeOptions& option
     }
   }
   if (const auto* capture = dynamic_cast<const StreamRecorderCapture*>(&recording)) {
-    out["stream_recorder"] = Json{{"unpaired_frames", capture->report().unpaired_frames},
-                                  {"other_entries", capture->report().other_entries},
-                                  {"unposed_frames", capture->report().unposed_frames}};
+    out["stream_recorder"] = OrderedJson{{"unpaired_frames", capture->report().unpaired_frames},
+                                         {"other_entries", capture->report().other_entries},
+                                         {"unposed_frames", capture->report().unposed_frames}};
   }
   if (recording.frame_count() > 0)
     out["frames"] = FrameStatisticsJson(recording, options.sample_frames);
@@ -167,9 +168,9 @@ Json RecordingJson(const AhatRecording& recording, const DescribeOptions& option
   return out;
 }
 
-Json MeshJson(const std::filesystem::path& path) {
+OrderedJson MeshJson(const std::filesystem::path& path) {
   const TriangleMesh mesh = ReadMesh(path);
-  Json out{
+  OrderedJson out{
       {"kind", "mesh"}, {"vertices", mesh.vertices.size()}, {"triangles", mesh.triangles.size()}};
   if (!mesh.vertices.empty()) {
     Eigen::Vector3d lo = mesh.vertices.front();
@@ -188,24 +189,24 @@ Json MeshJson(const std::filesystem::path& path) {
   return out;
 }
 
-Json VolumeJson(const std::filesystem::path& path) {
+OrderedJson VolumeJson(const std::filesystem::path& path) {
   const CtVolume volume = ReadVolume(path);
   const Eigen::Vector3d spacing = volume.spacing_mm();
   const auto [lo, hi] = std::minmax_element(volume.values.begin(), volume.values.end());
-  Json image_from_ijk = Json::array();
+  OrderedJson image_from_ijk = OrderedJson::array();
   for (int r = 0; r < 4; ++r) {
     image_from_ijk.push_back({volume.image_from_ijk(r, 0), volume.image_from_ijk(r, 1),
                               volume.image_from_ijk(r, 2), volume.image_from_ijk(r, 3)});
   }
-  return Json{{"kind", "volume"},
-              {"name", volume.name},
-              {"modality", volume.modality},
-              {"dims", {volume.dims[0], volume.dims[1], volume.dims[2]}},
-              {"spacing_mm", {spacing.x(), spacing.y(), spacing.z()}},
-              {"image_from_ijk_lps", image_from_ijk},
-              {"geometry_source", volume.geometry_source},
-              {"value_min", volume.values.empty() ? 0.0 : *lo},
-              {"value_max", volume.values.empty() ? 0.0 : *hi}};
+  return OrderedJson{{"kind", "volume"},
+                     {"name", volume.name},
+                     {"modality", volume.modality},
+                     {"dims", {volume.dims[0], volume.dims[1], volume.dims[2]}},
+                     {"spacing_mm", {spacing.x(), spacing.y(), spacing.z()}},
+                     {"image_from_ijk_lps", image_from_ijk},
+                     {"geometry_source", volume.geometry_source},
+                     {"value_min", volume.values.empty() ? 0.0 : *lo},
+                     {"value_max", volume.values.empty() ? 0.0 : *hi}};
 }
 
 bool HasMagic(const std::filesystem::path& path, std::string_view magic) {
@@ -215,14 +216,14 @@ bool HasMagic(const std::filesystem::path& path, std::string_view magic) {
   return std::equal(head.begin(), head.end(), magic.begin());
 }
 
-Json Describe(const std::filesystem::path& path, const DescribeOptions& options) {
+OrderedJson Describe(const std::filesystem::path& path, const DescribeOptions& options) {
   if (std::filesystem::is_directory(path)) {
     if (std::filesystem::exists(path / kStreamRecorderTar)) {
       return RecordingJson(*OpenAhatRecording(path), options);
     }
     if (std::filesystem::exists(path / "rm_depth_ahat") ||
         std::filesystem::exists(path / "uv2xy.bin")) {
-      Json out{{"kind", "calibration"}, {"format", "hl2ss calibration folder"}};
+      OrderedJson out{{"kind", "calibration"}, {"format", "hl2ss calibration folder"}};
       out.update(CalibrationJson(ReadHl2ssCalibration(path)));
       return out;
     }
@@ -245,14 +246,14 @@ Json Describe(const std::filesystem::path& path, const DescribeOptions& options)
   }
   if (std::filesystem::exists(path) && std::filesystem::file_size(path) == kHl2ssMode2Bytes &&
       !HasMagic(path, "HL2SS")) {
-    Json out{{"kind", "calibration"}, {"format", "hl2ss Mode-2 blob"}};
+    OrderedJson out{{"kind", "calibration"}, {"format", "hl2ss Mode-2 blob"}};
     out.update(CalibrationJson(DecodeHl2ssMode2(ReadFileBytes(path), path)));
     return out;
   }
   return RecordingJson(*OpenAhatRecording(path), options);
 }
 
-void RenderText(const Json& node, int indent, std::string& out) {
+void RenderText(const OrderedJson& node, int indent, std::string& out) {
   for (const auto& [key, value] : node.items()) {
     out.append(static_cast<std::size_t>(indent), ' ');
     out += key + ":";

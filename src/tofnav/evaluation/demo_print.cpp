@@ -173,6 +173,16 @@ void PrintDemoTables(const DemoJson& demo) {
         Number(p, "angle_sd_deg"));
     PrintAcceptance(s);
   }
+  // Where the run spent its time (also demo.json: stages.<name>.elapsed_s and elapsed_s).
+  const double total_s = demo["elapsed_s"].get<double>();
+  double stages_s = 0.0;
+  std::printf("\n== time: %.1f s in all:", total_s);
+  for (const auto& [name, stage] : st.items()) {
+    if (!stage.contains("elapsed_s")) continue;
+    stages_s += Number(stage, "elapsed_s");
+    std::printf(" %s %.1f s,", name.c_str(), Number(stage, "elapsed_s"));
+  }
+  std::printf(" the rest (the head, the report) %.1f s\n", total_s - stages_s);
 }
 
 }  // namespace tofnav

@@ -9,22 +9,13 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "tofnav/evaluation/truth_hits.hpp"
 #include "tofnav/io/file.hpp"
 
 namespace tofnav {
 namespace {
 
 using Json = nlohmann::json;
-
-Rigid3d Matrix(const Json& j) {
-  Eigen::Matrix4d m;
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c) {
-      m(r, c) = j.at(static_cast<std::size_t>(r)).at(static_cast<std::size_t>(c)).get<double>();
-    }
-  }
-  return Rigid3d::FromMatrix(m);
-}
 
 // The truth of one frame: rig_from_image (what the display shows relative to the head, free of
 // the headset's pose error) and world_from_rig as recorded.
@@ -47,16 +38,16 @@ std::vector<TruthFrame> ReadTruthFrames(const std::filesystem::path& truth_path)
       }
     }
     if (tool.empty()) throw std::runtime_error("no tool rigid with the patient");
-    const Rigid3d tool_from_image = Matrix(truth.at(tool + "_from_image"));
+    const Rigid3d tool_from_image = TruthMatrix(truth.at(tool + "_from_image"));
     const double tick_s = 1e-7;
     std::vector<TruthFrame> frames;
     for (const Json& f : truth.at("frames")) {
       TruthFrame t;
       t.timestamp_s = f.at("timestamp").get<double>() * tick_s;
-      t.world_from_rig_recorded = Matrix(f.at("world_from_rig"));
-      t.rig_from_image_true =
-          Matrix(f.at("rig_from_ahat")) * Matrix(f.at("ahat_from_" + tool)) * tool_from_image;
-      t.world_from_image_true = Matrix(f.at("world_from_rig_true")) * t.rig_from_image_true;
+      t.world_from_rig_recorded = TruthMatrix(f.at("world_from_rig"));
+      t.rig_from_image_true = TruthMatrix(f.at("rig_from_ahat")) *
+                              TruthMatrix(f.at("ahat_from_" + tool)) * tool_from_image;
+      t.world_from_image_true = TruthMatrix(f.at("world_from_rig_true")) * t.rig_from_image_true;
       frames.push_back(t);
     }
     return frames;

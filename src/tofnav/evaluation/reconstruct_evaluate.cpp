@@ -22,27 +22,27 @@
 namespace tofnav {
 namespace {
 
-using Json = nlohmann::ordered_json;          // objects in truth.json order (the scenario's)
+using OrderedJson = nlohmann::ordered_json;   // objects in truth.json order (the scenario's)
 constexpr double kRigidTranslationMm = 0.01;  // objects moving more relative to the tool: not rigid
 constexpr double kRigidRotationRad = 1e-5;
 
-Json ParseTruth(const std::filesystem::path& path) {
+OrderedJson ParseTruth(const std::filesystem::path& path) {
   const std::vector<std::uint8_t> bytes = ReadFileBytes(path);
   try {
-    return Json::parse(bytes.begin(), bytes.end());
-  } catch (const Json::parse_error& e) {
+    return OrderedJson::parse(bytes.begin(), bytes.end());
+  } catch (const OrderedJson::parse_error& e) {
     throw IoError(path, e.byte > 0 ? e.byte - 1 : 0, "invalid JSON: " + std::string(e.what()));
   }
 }
 
-Rigid3d MatrixAt(const Json& j, const std::filesystem::path& path, const std::string& what) {
+Rigid3d MatrixAt(const OrderedJson& j, const std::filesystem::path& path, const std::string& what) {
   if (!j.is_array() || j.size() != 4) throw IoError(path, std::nullopt, what + ": not a 4 x 4");
   Eigen::Matrix4d m;
   for (int r = 0; r < 4; ++r) {
-    const Json& row = j[static_cast<std::size_t>(r)];
+    const OrderedJson& row = j[static_cast<std::size_t>(r)];
     if (!row.is_array() || row.size() != 4) throw IoError(path, std::nullopt, what + ": bad row");
     for (int c = 0; c < 4; ++c) {
-      const Json& v = row[static_cast<std::size_t>(c)];
+      const OrderedJson& v = row[static_cast<std::size_t>(c)];
       if (!v.is_number()) throw IoError(path, std::nullopt, what + ": not a number");
       m(r, c) = v.get<double>();
     }
@@ -54,7 +54,7 @@ Rigid3d MatrixAt(const Json& j, const std::filesystem::path& path, const std::st
   }
 }
 
-std::unique_ptr<sim::Scenario> LoadTruthScenario(const Json& truth,
+std::unique_ptr<sim::Scenario> LoadTruthScenario(const OrderedJson& truth,
                                                  const std::filesystem::path& scenario_file) {
   if (!scenario_file.empty())
     return std::make_unique<sim::Scenario>(ReadScenarioFile(scenario_file));
@@ -66,16 +66,16 @@ std::unique_ptr<sim::Scenario> LoadTruthScenario(const Json& truth,
 
 // The meshes simulate wrote (truth.json files "mesh:<object>"), each checked against the
 // object's vertex and triangle counts; empty for a session written before them.
-std::vector<std::pair<std::string, TriangleMesh>> MeshFiles(const Json& truth,
+std::vector<std::pair<std::string, TriangleMesh>> MeshFiles(const OrderedJson& truth,
                                                             const std::filesystem::path& dir) {
   std::vector<std::pair<std::string, TriangleMesh>> meshes;
-  const Json& files = truth.value("files", Json::object());
+  const OrderedJson& files = truth.value("files", OrderedJson::object());
   const std::filesystem::path path = dir / "truth.json";
   constexpr std::string_view kRole = "mesh:";
   for (const auto& [role, value] : files.items()) {
     if (role.rfind(kRole, 0) != 0) continue;
     const std::string name = role.substr(kRole.size());
-    const Json& objects = truth["objects"];
+    const OrderedJson& objects = truth["objects"];
     if (!value.is_string() || !objects.contains(name) || !objects[name].is_object()) {
       throw IoError(path, std::nullopt,
                     "files." + role + ": expected a file name of an object in \"objects\"");
@@ -108,7 +108,7 @@ std::vector<std::pair<std::string, TriangleMesh>> MeshFiles(const Json& truth,
 // The object meshes by name: the session's mesh files when truth.json names them; else (a
 // session written before them) from the scenario, or only the skin file without one.
 std::vector<std::pair<std::string, TriangleMesh>> ObjectMeshes(
-    const Json& truth, const std::filesystem::path& dir,
+    const OrderedJson& truth, const std::filesystem::path& dir,
     const std::filesystem::path& scenario_file) {
   std::vector<std::pair<std::string, TriangleMesh>> meshes = MeshFiles(truth, dir);
   if (!meshes.empty()) return meshes;
@@ -117,7 +117,7 @@ std::vector<std::pair<std::string, TriangleMesh>> ObjectMeshes(
   if (scenario) {
     for (const sim::SceneObject& o : scenario->scene.objects) {
       if (!truth["objects"].contains(o.name)) continue;
-      const Json& info = truth["objects"][o.name];
+      const OrderedJson& info = truth["objects"][o.name];
       Require(info.value("vertices", std::size_t{0}) == o.mesh.vertices.size() &&
                   info.value("triangles", std::size_t{0}) == o.mesh.triangles.size(),
               "the scenario's mesh of '" + o.name + "' does not match " + path.string() +
@@ -126,8 +126,8 @@ std::vector<std::pair<std::string, TriangleMesh>> ObjectMeshes(
     }
     return meshes;
   }
-  const Json& files = truth.value("files", Json::object());
-  const Json& patient = truth.value("patient", Json::object());
+  const OrderedJson& files = truth.value("files", OrderedJson::object());
+  const OrderedJson& patient = truth.value("patient", OrderedJson::object());
   if (files.contains("skin") && patient.contains("object")) {
     meshes.emplace_back(patient["object"].get<std::string>(),
                         ReadMesh(dir / files["skin"].get<std::string>()));
@@ -162,7 +162,7 @@ std::vector<TruthSurface> ReadTruthSurfaces(const std::filesystem::path& truth_d
                                             const std::string& tool_name,
                                             const std::filesystem::path& scenario_file) {
   const std::filesystem::path path = truth_dir / "truth.json";
-  const Json truth = ParseTruth(path);
+  const OrderedJson truth = ParseTruth(path);
   if (!truth.is_object() || !truth.contains("tools") || !truth.contains("frames") ||
       !truth.contains("objects") || !truth["frames"].is_array() || truth["frames"].empty()) {
     throw IoError(path, std::nullopt, "expected a simulation truth with tools, objects, frames");
@@ -180,7 +180,7 @@ std::vector<TruthSurface> ReadTruthSurfaces(const std::filesystem::path& truth_d
   for (auto& [name, mesh] : ObjectMeshes(truth, truth_dir, scenario_file)) {
     std::optional<Rigid3d> first;
     bool rigid = true;
-    for (const Json& frame : truth["frames"]) {
+    for (const OrderedJson& frame : truth["frames"]) {
       Require(frame.contains("ahat_from_objects") && frame["ahat_from_objects"].contains(name),
               path.string() + ": a frame has no pose of object '" + name +
                   "': the recorded scene differs from the scenario it names (a suite "

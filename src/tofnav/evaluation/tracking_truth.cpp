@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "tofnav/evaluation/truth_hits.hpp"
 #include "tofnav/io/file.hpp"
 
 namespace tofnav {
@@ -23,15 +24,6 @@ struct TruthTool {
 
 Eigen::Vector3d Vector3(const Json& j) {
   return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
-}
-
-Rigid3d Matrix(const Json& j) {
-  Eigen::Matrix4d m;
-  for (int r = 0; r < 4; ++r) {
-    for (int c = 0; c < 4; ++c)
-      m(r, c) = j.at(static_cast<std::size_t>(r)).at(static_cast<std::size_t>(c)).get<double>();
-  }
-  return Rigid3d::FromMatrix(m);
 }
 
 // Every marker of `tool` seen by >= min_pixels pixels, within its material's retro-reflection
@@ -116,7 +108,7 @@ std::vector<ToolTruthEvaluation> EvaluateTrackingAgainstTruth(
       result.push_back({r.tool, {}, {}, {}});
     }
     ToolEvaluationFrame e;
-    e.true_ahat_from_tool = Matrix(f.at("ahat_from_" + r.tool));
+    e.true_ahat_from_tool = TruthMatrix(f.at("ahat_from_" + r.tool));
     e.fully_visible =
         FullyVisible(f.at("visible_markers"), r.tool, tools[r.tool], tools, min_marker_pixels);
     e.raw = r.ahat_from_tool;

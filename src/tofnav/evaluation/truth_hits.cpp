@@ -30,6 +30,16 @@ Rigid3d PoseFromMatrix(const nlohmann::json& m) {
 
 }  // namespace
 
+Rigid3d TruthMatrix(const nlohmann::json& rows) {
+  Eigen::Matrix4d m;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      m(r, c) = rows.at(static_cast<std::size_t>(r)).at(static_cast<std::size_t>(c)).get<double>();
+    }
+  }
+  return Rigid3d::FromMatrix(m);
+}
+
 SimulationTruth ReadSimulationTruth(const std::filesystem::path& dir, std::string scenario_name) {
   std::ifstream file(dir / "truth.json");
   if (!file) throw IoError(dir / "truth.json", std::nullopt, "cannot open");

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "tofnav/core/image.hpp"
+#include "tofnav/core/rigid3d.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sim/raycaster.hpp"
 #include "tofnav/sim/scenario.hpp"
@@ -24,6 +25,9 @@ struct SimulationTruth {
 /// truth.json's "scenario" with the patient head it was simulated with (`ct:`, `mesh:` or the
 /// phantom). Throws IoError when truth.json cannot be read.
 SimulationTruth ReadSimulationTruth(const std::filesystem::path& dir, std::string scenario_name);
+
+/// A 4 x 4 matrix of truth.json (rows of numbers) as a rigid transform.
+Rigid3d TruthMatrix(const nlohmann::json& rows);
 
 /// What each pixel's centre ray hits first.
 struct TruthHits {

@@ -14,11 +14,7 @@
 #endif
 
 namespace tofnav {
-namespace {
-
-constexpr int kLast = kTsdfBlockSide - 1;  // index of a block's last voxel along an axis
-
-}  // namespace
+namespace {}  // namespace
 
 bool ProjectCorners(const PixelLookup::Table& lookup, const float origin[3], const float steps[9],
                     float u[9], float v[9]) {
@@ -26,10 +22,10 @@ bool ProjectCorners(const PixelLookup::Table& lookup, const float origin[3], con
   // ProjectCornersAvx2's lanes, and as Eigen's origin + steps * c and norm() (which sum
   // a0 + (a1 + a2)).
   for (int c = 0; c < 9; ++c) {
-    const float half = 0.5f * kLast;
-    const float cx = c == 8 ? half : static_cast<float>(kLast * (c & 1));
-    const float cy = c == 8 ? half : static_cast<float>(kLast * ((c >> 1) & 1));
-    const float cz = c == 8 ? half : static_cast<float>(kLast * (c >> 2));
+    const float half = 0.5f * kTsdfBlockLast;
+    const float cx = c == 8 ? half : static_cast<float>(kTsdfBlockLast * (c & 1));
+    const float cy = c == 8 ? half : static_cast<float>(kTsdfBlockLast * ((c >> 1) & 1));
+    const float cz = c == 8 ? half : static_cast<float>(kTsdfBlockLast * (c >> 2));
     float p[3];
     for (int i = 0; i < 3; ++i)
       p[i] = origin[i] + (steps[i] * cx + (steps[3 + i] * cy + steps[6 + i] * cz));
@@ -78,9 +74,9 @@ TOFNAV_AVX2 __m256 NodeLerp(const float* base, __m256i index, __m256 fa, __m256 
 /// The points origin + (steps[0..2] cx + (steps[3..5] cy + steps[6..8] cz)) (Eigen's order for
 /// origin + steps * c) on the lookup table's node grid (a, b), as PixelLookup::Table::Lookup
 /// computes them; returns the lanes inside the grid.
-TOFNAV_AVX2 __m256 PlanePosition(const PixelLookup::Table& lookup, const float origin[3],
-                                 const float steps[9], __m256 cx, __m256 cy, __m256 cz, __m256& a,
-                                 __m256& b) {
+TOFNAV_AVX2 __m256 ProjectToPlane(const PixelLookup::Table& lookup, const float origin[3],
+                                  const float steps[9], __m256 cx, __m256 cy, __m256 cz, __m256& a,
+                                  __m256& b) {
   __m256 p[3];
   for (int i = 0; i < 3; ++i) {
     const __m256 yz = _mm256_add_ps(_mm256_mul_ps(_mm256_set1_ps(steps[3 + i]), cy),
@@ -119,7 +115,7 @@ TOFNAV_AVX2 void LookupLanes(const PixelLookup::Table& lookup, const float origi
                              const float steps[9], __m256 cx, __m256 cy, __m256 cz, __m256& u,
                              __m256& v) {
   __m256 a, b;
-  const __m256 seen = PlanePosition(lookup, origin, steps, cx, cy, cz, a, b);
+  const __m256 seen = ProjectToPlane(lookup, origin, steps, cx, cy, cz, a, b);
   const __m256i ia = _mm256_cvttps_epi32(a), ib = _mm256_cvttps_epi32(b);
   const __m256 fa = _mm256_sub_ps(a, _mm256_cvtepi32_ps(ia));
   const __m256 fb = _mm256_sub_ps(b, _mm256_cvtepi32_ps(ib));
@@ -170,7 +166,7 @@ __attribute__((target("avx2"))) void PrefetchCornerNodesAvx2(const PixelLookup::
                                                              const float steps[9]) {
   __m256 cx, cy, cz, a, b;
   CornerLanes(cx, cy, cz);
-  const int seen = _mm256_movemask_ps(PlanePosition(lookup, origin, steps, cx, cy, cz, a, b));
+  const int seen = _mm256_movemask_ps(ProjectToPlane(lookup, origin, steps, cx, cy, cz, a, b));
   if (seen != 0xFF) return;
   const __m256i node =
       _mm256_add_epi32(_mm256_mullo_epi32(_mm256_cvttps_epi32(b), _mm256_set1_epi32(lookup.stride)),

@@ -2,11 +2,11 @@
 // A frame against the fused model: residuals, bounded point-to-plane alignment, verdict.
 #include "tofnav/fusion/model_check.hpp"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/core/rotation_vector.hpp"
 #include "tofnav/fusion/tsdf_sample.hpp"
@@ -54,8 +54,6 @@ double MedianAbs(const std::vector<double>& values) {
   return *mid;
 }
 
-using Vector6d = Eigen::Matrix<double, 6, 1>;
-
 // The RMS distance of the inliers from the centre, plus 1 mm (never 0) [mm].
 double RmsRadius(const Residuals& res, const Eigen::Vector3d& centre) {
   double sum = 0.0;
@@ -87,7 +85,7 @@ Vector6d AlignmentStep(const Residuals& res, const Eigen::Vector3d& centre, doub
   }
   a.diagonal().array() += kPriorWeight;
   b -= kPriorWeight * x;
-  return x + a.ldlt().solve(b);
+  return x + SolveSymmetric(a, b);
 }
 
 Eigen::Vector3d Centroid(const std::vector<Eigen::Vector3d>& points) {

@@ -24,7 +24,6 @@ namespace {
 /// projection is smooth, so the error is second order in the block's image size (about 0.01 px
 /// for 1 mm voxels at 400 mm), far below the pixel footprint.
 constexpr float kMaxInterpolationErrorPx = 0.05f;
-constexpr int kLast = kTsdfBlockSide - 1;  // index of the last voxel along an axis
 static_assert(kTsdfBlockSide == 8, "UpdateInterpolatedRowAvx2 holds one row in eight lanes");
 
 template <bool kInterpolated, bool kBilinear, bool kWeighted>
@@ -96,13 +95,19 @@ struct Trilinear {
   /// Value at x = 0 and change per voxel along x, on the row (ty, tz).
   std::pair<float, float> Row(float ty, float tz) const {
     return {c0 + cy * ty + cz * tz + cyz * ty * tz,
-            (cx + cxy * ty + cxz * tz + cxyz * ty * tz) / kLast};
+            (cx + cxy * ty + cxz * tz + cxyz * ty * tz) / kTsdfBlockLast};
   }
   /// Row(y / 7, z / 7) for the 64 rows r = y + 8 z of a block: value and change per voxel.
   void Rows(float* start, float* step) const {
-    constexpr float kT[kTsdfBlockSide] = {0.0f,         1.0f / kLast, 2.0f / kLast, 3.0f / kLast,
-                                          4.0f / kLast, 5.0f / kLast, 6.0f / kLast, 1.0f};
-    constexpr float kPerVoxel = 1.0f / kLast;
+    constexpr float kT[kTsdfBlockSide] = {0.0f,
+                                          1.0f / kTsdfBlockLast,
+                                          2.0f / kTsdfBlockLast,
+                                          3.0f / kTsdfBlockLast,
+                                          4.0f / kTsdfBlockLast,
+                                          5.0f / kTsdfBlockLast,
+                                          6.0f / kTsdfBlockLast,
+                                          1.0f};
+    constexpr float kPerVoxel = 1.0f / kTsdfBlockLast;
     for (int z = 0; z < kTsdfBlockSide; ++z) {
       const float tz = kT[z];
       const float start_z = c0 + cz * tz, slope_z = cy + cyz * tz;
@@ -137,8 +142,8 @@ std::optional<BlockProjection> InterpolatedProjection(const PixelLookup::Table& 
   if (!seen) return std::nullopt;
   const PixelLookup::Position exact{u[8], v[8]};
   const Trilinear tu(u), tv(v);
-  const float mid_u = tu.Row(0.5f, 0.5f).first + 0.5f * kLast * tu.Row(0.5f, 0.5f).second;
-  const float mid_v = tv.Row(0.5f, 0.5f).first + 0.5f * kLast * tv.Row(0.5f, 0.5f).second;
+  const float mid_u = tu.Row(0.5f, 0.5f).first + 0.5f * kTsdfBlockLast * tu.Row(0.5f, 0.5f).second;
+  const float mid_v = tv.Row(0.5f, 0.5f).first + 0.5f * kTsdfBlockLast * tv.Row(0.5f, 0.5f).second;
   if (!(std::abs(exact.u - mid_u) <= kMaxInterpolationErrorPx &&
         std::abs(exact.v - mid_v) <= kMaxInterpolationErrorPx)) {
     return std::nullopt;
@@ -236,8 +241,9 @@ std::int64_t FusionFrame::IntegrateBlock(const Eigen::Vector3i& key, TsdfBlock& 
   if (projection) {
     cull_mm = FootprintMaxRange(in.range_mm, width_, *projection, use_avx2_) + truncation_mm_ +
               kCullMarginMm;
-    const Eigen::Vector3f centre = origin + steps * Eigen::Vector3f::Constant(0.5f * kLast);
-    const float half_diagonal = 0.5f * kLast * std::sqrt(3.0f) * voxel;
+    const Eigen::Vector3f centre =
+        origin + steps * Eigen::Vector3f::Constant(0.5f * kTsdfBlockLast);
+    const float half_diagonal = 0.5f * kTsdfBlockLast * std::sqrt(3.0f) * voxel;
     if (centre.norm() - half_diagonal > cull_mm) return 0;
   }
   const bool bilinear = options_.sampling == TsdfDepthSampling::kBilinear;

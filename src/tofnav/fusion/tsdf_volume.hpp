@@ -58,6 +58,8 @@ struct IntegrateResult {
 };
 
 constexpr int kTsdfBlockSide = 8;
+/// Index of a block's last voxel along an axis.
+constexpr int kTsdfBlockLast = kTsdfBlockSide - 1;
 constexpr int kTsdfBlockVoxels = kTsdfBlockSide * kTsdfBlockSide * kTsdfBlockSide;
 
 /// Voxel (x, y, z) of a block is entry x + 8 * (y + 8 * z).

@@ -12,7 +12,7 @@
 namespace tofnav {
 namespace {
 
-constexpr std::uint8_t kBackground = 0, kTissue = 1;
+constexpr std::uint8_t kExteriorBackground = 0, kExteriorTissue = 1;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 std::size_t VoxelCount(const std::array<int, 3>& dims) {
@@ -75,7 +75,7 @@ std::vector<std::uint8_t> ExteriorFaceSeeds(const VoxelMask& mask) {
       };
       std::vector<std::uint8_t> reached(nu * nv, 0);
       const auto enter = [&](std::size_t u, std::size_t v) {
-        if (mask.values[at(u, v)] != kBackground || reached[u + nu * v] != 0) return false;
+        if (mask.values[at(u, v)] != kExteriorBackground || reached[u + nu * v] != 0) return false;
         reached[u + nu * v] = 1;
         seeds[at(u, v)] = 1;
         return true;
@@ -122,7 +122,8 @@ std::size_t FillUnreachableAir(VoxelMask& mask, const std::array<double, 3>& spa
     for (int j = 0; j < dims[1]; ++j) {
       for (int i = 0; i < dims[0]; ++i, ++n) {
         const std::size_t s = source(i, j, k);
-        const bool is_air = mask.values[s] == kBackground && (inside(i, j, k) || seeds[s] != 0);
+        const bool is_air =
+            mask.values[s] == kExteriorBackground && (inside(i, j, k) || seeds[s] != 0);
         air[n] = is_air ? 1 : 0;
         d2[n] = is_air ? kInfinity : 0.0;
       }
@@ -162,7 +163,7 @@ std::size_t FillUnreachableAir(VoxelMask& mask, const std::array<double, 3>& spa
     for (int j = 0; j < dims[1]; ++j) {
       for (int i = 0; i < dims[0]; ++i, ++n) {
         if (!inside(i, j, k) || reached[n] == 0) continue;
-        mask.values[source(i, j, k)] = kTissue;
+        mask.values[source(i, j, k)] = kExteriorTissue;
         ++filled;
       }
     }

@@ -41,6 +41,10 @@ class GzipInflater {
   bool finished_ = false;
 };
 
+/// Deflate cannot expand data by more than about 1032:1: a gzip block shorter than
+/// expected / kMaxDeflateRatio cannot hold the data (checked before inflating).
+inline constexpr std::uint64_t kMaxDeflateRatio = 1032;
+
 /// The first min(max_output, total) decompressed bytes; bytes after max_output are not decoded.
 std::vector<std::uint8_t> InflateGzip(std::span<const std::uint8_t> compressed,
                                       const std::filesystem::path& path, std::size_t max_output,

@@ -9,7 +9,7 @@
 namespace tofnav {
 namespace {
 
-constexpr std::size_t kBatchFrames = 16;  // frames decoded before one parallel detection pass
+constexpr std::size_t kMarkerBatchFrames = 16;  // frames decoded before one parallel detection pass
 
 }  // namespace
 
@@ -22,7 +22,7 @@ void ForEachFrameDetections(
     MarkerDetectionResult detection;
   };
   ForEachInBatches<Item>(
-      source.frames, kBatchFrames,
+      source.frames, kMarkerBatchFrames,
       [&](std::size_t i) {
         return Item{source.recording->ReadFrame(i), {}};
       },

@@ -240,7 +240,7 @@ void Prepare(PreparedFrame& p, const AhatCamera& camera, const ReconstructOption
   }
 }
 
-constexpr std::size_t kBatchFrames = 8;  // frames prepared in parallel
+constexpr std::size_t kPrepareBatchFrames = 8;  // frames prepared in parallel
 
 // IntegrateChecked, counted in `result`.
 void FuseChecked(TsdfVolume& volume, Image<float> range_mm, const AhatCamera& camera,
@@ -330,7 +330,7 @@ ReconstructResult ReconstructSurface(
   };
   BatchTimes times;
   ForEachInBatches<PreparedFrame>(
-      posed.size(), kBatchFrames,
+      posed.size(), kPrepareBatchFrames,
       [&](std::size_t p) {
         PreparedFrame prepared;
         prepared.tracked = posed[p];

@@ -12,7 +12,7 @@
 namespace tofnav {
 namespace {
 
-constexpr std::size_t kBatchFrames = 16;  // frames whose markers are located in parallel
+constexpr std::size_t kLocateBatchFrames = 16;  // frames whose markers are located in parallel
 
 }  // namespace
 
@@ -33,7 +33,7 @@ std::vector<TrackedFrame> TrackFrames(const AhatRecording& recording, const Ahat
   };
   BatchTimes times;
   ForEachInBatches<Item>(
-      frames.size(), kBatchFrames,
+      frames.size(), kLocateBatchFrames,
       [&](std::size_t p) {
         return Item{recording.ReadFrame(frames[p]), {}};
       },

@@ -7,12 +7,12 @@
 #include <sstream>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/io/io_error.hpp"
 
 namespace tofnav {
 namespace {
 
-constexpr double kMmPerMetre = 1000.0;
 // Device matrices are f32 built from a quaternion: their rotation blocks are orthonormal to about
 // 1e-7, so anything beyond this is a broken or non-rigid matrix, not rounding.
 constexpr double kRigidTolerance = 1e-4;

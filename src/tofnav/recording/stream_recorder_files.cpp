@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/io/io_error.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
 
@@ -17,7 +18,6 @@ namespace {
 
 constexpr std::size_t kLutBytes = kStreamRecorderLutBytes;
 static_assert(kLutBytes == std::size_t{kAhatPixels} * 3 * sizeof(float));
-constexpr double kMmPerMetre = 1000.0;
 /// The recorder prints 6 significant digits, so a stored rotation is orthonormal only to ~1e-5;
 /// FromMatrix re-orthonormalises within this tolerance (dimensionless).
 constexpr double kRotationTolerance = 1e-4;

@@ -2,13 +2,13 @@
 // The coarse alignment search: anchored placements, their scores, and the grid refinement.
 #include "tofnav/registration/coarse_search.hpp"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <numeric>
 #include <optional>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/parallel_for.hpp"
 #include "tofnav/registration/point_to_plane.hpp"
 #include "tofnav/registration/sampling.hpp"
@@ -152,7 +152,7 @@ Rigid3d RefineOnGrid(const Samples& samples, const SurfaceIndex& coarse_target,
       if (sums.count < kMinRefineMatches) return pose;
       Matrix6d hessian = sums.Hessian();
       hessian.diagonal().array() += 1e-6 * std::max(hessian.diagonal().maxCoeff(), 1e-12);
-      const Vector6d delta = -hessian.ldlt().solve(sums.Gradient());
+      const Vector6d delta = -SolveSymmetric(hessian, sums.Gradient());
       pose = UpdateOnLeft(delta, centre, pose);
       if (delta.head<3>().norm() < 1e-4 && delta.tail<3>().norm() < 1e-2) break;
     }
@@ -170,7 +170,7 @@ Placements::Placements(const SurfaceIndex& coarse_target, const SurfaceIndex& ta
     if (normal.isZero()) continue;
     anchors_.push_back(target.points()[i]);
     normals_.push_back(normal);
-    tilts_.push_back(Eigen::Quaterniond::FromTwoVectors(normal_in_source, normal));
+    tilts_.push_back(RotationBetween(normal_in_source, normal));
   }
 }
 Rigid3d Placements::Pose(std::size_t i) const {

@@ -2,13 +2,13 @@
 // Robust point-to-plane ICP: gated correspondences, IRLS weights, Gauss-Newton on se(3).
 #include "tofnav/registration/icp.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
 #include <vector>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/parallel_for.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/registration/point_to_plane.hpp"
@@ -163,14 +163,13 @@ PointToPlaneSums NormalEquations(const std::vector<Match>& matches, const Eigen:
 /// below kUnconstrained of the largest (a sphere's turn about its centre) get no step, instead of
 /// an arbitrary one driven by round-off.
 Vector6d SolveStep(const PointToPlaneSums& sums) {
-  const Eigen::SelfAdjointEigenSolver<Matrix6d> solver(sums.Hessian());
-  const Vector6d& values = solver.eigenvalues();
+  const auto solver = DecomposeSymmetric(sums.Hessian());
+  const Vector6d& values = solver.values;
   Vector6d inverse = Vector6d::Zero();
   for (int i = 0; i < 6; ++i) {
     if (values(i) > kUnconstrained * values(5)) inverse(i) = 1.0 / values(i);
   }
-  return -(solver.eigenvectors() * inverse.asDiagonal() * solver.eigenvectors().transpose() *
-           sums.Gradient());
+  return -(solver.vectors * inverse.asDiagonal() * solver.vectors.transpose() * sums.Gradient());
 }
 
 /// The final statistics at the finest gate: inliers, RMSE, sigma, information about the centroid.

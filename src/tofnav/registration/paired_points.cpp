@@ -2,18 +2,19 @@
 // Paired-point registration (core FitRigid) and the Fitzpatrick FRE/TRE relations.
 #include "tofnav/registration/paired_points.hpp"
 
-#include <Eigen/Eigenvalues>
-#include <Eigen/SVD>
 #include <cmath>
 #include <utility>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/core/rigid_fit.hpp"
 
 namespace tofnav {
 namespace {
 
-constexpr double kCollinear = 1e-10;  // relative second singular value of the centred points
+// Relative second spread of the centred points; the spreads come from the scatter matrix, whose
+// rounding leaves ~1e-8 of the largest on exactly collinear points.
+constexpr double kCollinear = 1e-6;
 
 Eigen::Matrix3Xd ToMatrix(std::span<const Eigen::Vector3d> points) {
   Eigen::Matrix3Xd m(3, static_cast<Eigen::Index>(points.size()));
@@ -30,8 +31,7 @@ PairedPointResult RegisterPairedPoints(std::span<const Eigen::Vector3d> source,
   const Eigen::Matrix3Xd s = ToMatrix(source);
   const Eigen::Matrix3Xd t = ToMatrix(target);
   Require(s.allFinite() && t.allFinite(), "RegisterPairedPoints: points must be finite");
-  const Eigen::Matrix3Xd s_centred = s.colwise() - s.rowwise().mean();
-  const Eigen::Vector3d spread = Eigen::JacobiSVD<Eigen::Matrix3Xd>(s_centred).singularValues();
+  const Eigen::Vector3d spread = ComputePrincipalAxes(source).spreads;
   Require(spread(1) > kCollinear * std::max(spread(0), 1e-300),
           "RegisterPairedPoints: the source points are collinear");
   // Kabsch / Umeyama without scaling, shared with tool tracking.
@@ -47,11 +47,11 @@ double PredictFiducialTreMm(std::span<const Eigen::Vector3d> fiducials, double f
   const Eigen::Vector3d centroid = f.rowwise().mean();
   const Eigen::Matrix3Xd centred = f.colwise() - centroid;
   const auto n = static_cast<double>(fiducials.size());
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> axes(centred * centred.transpose() / n);
+  const auto axes = DecomposeSymmetric(Eigen::Matrix3d(centred * centred.transpose() / n));
   const Eigen::Vector3d offset = target - centroid;
   double sum = 0.0;
   for (int k = 0; k < 3; ++k) {
-    const Eigen::Vector3d axis = axes.eigenvectors().col(k);
+    const Eigen::Vector3d axis = axes.vectors.col(k);
     // Squared distances from principal axis k: |x|^2 - (x . axis)^2.
     const double f_sq =
         (centred.colwise().squaredNorm().array() - (axis.transpose() * centred).array().square())

@@ -3,9 +3,9 @@
 // sampling": the same 6x6 covariance and its eigenvectors name the sliding directions).
 #include "tofnav/registration/pose_conditioning.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 
 namespace tofnav {
@@ -13,17 +13,17 @@ namespace {
 
 /// Pseudo-inverse of a symmetric positive semi-definite 3x3 block.
 Eigen::Matrix3d PseudoInverse(const Eigen::Matrix3d& block) {
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(block);
-  const double largest = std::max(solver.eigenvalues().cwiseAbs().maxCoeff(), 1e-300);
+  const auto solver = DecomposeSymmetric(block);
+  const double largest = std::max(solver.values.cwiseAbs().maxCoeff(), 1e-300);
   Eigen::Vector3d inverse = Eigen::Vector3d::Zero();
   for (int i = 0; i < 3; ++i) {
-    if (solver.eigenvalues()(i) > 1e-12 * largest) inverse(i) = 1.0 / solver.eigenvalues()(i);
+    if (solver.values(i) > 1e-12 * largest) inverse(i) = 1.0 / solver.values(i);
   }
-  return solver.eigenvectors() * inverse.asDiagonal() * solver.eigenvectors().transpose();
+  return solver.vectors * inverse.asDiagonal() * solver.vectors.transpose();
 }
 
 double SmallestEigenvalue(const Eigen::Matrix3d& block) {
-  return std::max(Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(block).eigenvalues()(0), 0.0);
+  return std::max(DecomposeSymmetric(block).values(0), 0.0);
 }
 
 }  // namespace
@@ -35,9 +35,9 @@ PoseConditioning ComputeConditioning(const Matrix6d& information, int count, dou
   Vector6d scale;
   scale << Eigen::Vector3d::Constant(1.0 / radius_mm), Eigen::Vector3d::Ones();
   const Matrix6d scaled = scale.asDiagonal() * information * scale.asDiagonal() / count;
-  const Eigen::SelfAdjointEigenSolver<Matrix6d> solver(scaled);
-  result.eigenvalues = solver.eigenvalues().cwiseMax(0.0);
-  result.weakest_direction = solver.eigenvectors().col(0);
+  const auto solver = DecomposeSymmetric(scaled);
+  result.eigenvalues = solver.values.cwiseMax(0.0);
+  result.weakest_direction = solver.vectors.col(0);
   const double largest = result.eigenvalues(5);
   if (!(largest > 0.0)) return result;
   result.overall = result.eigenvalues(0) / largest;

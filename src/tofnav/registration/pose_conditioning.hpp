@@ -4,10 +4,9 @@
 
 #include <Eigen/Core>
 
-namespace tofnav {
+#include "tofnav/core/dense_solvers.hpp"
 
-using Matrix6d = Eigen::Matrix<double, 6, 6>;
-using Vector6d = Eigen::Matrix<double, 6, 1>;
+namespace tofnav {
 
 /// Conditioning of J^T J for delta = (omega [rad], v [mm]) with rotation scaled to millimetres at
 /// `radius_mm` (so both halves have the same unit) and divided by the correspondence count: an

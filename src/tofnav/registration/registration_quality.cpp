@@ -2,13 +2,13 @@
 // Registration quality: covariance-based TRE prediction and the refusal rules.
 #include "tofnav/registration/registration_quality.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <tuple>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/registration/sampling.hpp"
 
@@ -107,12 +107,12 @@ std::vector<double> PredictTre(const IcpResult& icp, std::size_t effective_sampl
   if (inliers < 6) return tre;
   const double inflation =  // N / N_eff >= 1
       static_cast<double>(inliers) / static_cast<double>(effective_samples);
-  const Eigen::SelfAdjointEigenSolver<Matrix6d> solver(icp.information);
-  const Vector6d& values = solver.eigenvalues();
+  const auto solver = DecomposeSymmetric(icp.information);
+  const Vector6d& values = solver.values;
   if (!(values(0) > kSingular * values(5))) return tre;
   const Matrix6d covariance = icp.residual_sigma_mm * icp.residual_sigma_mm * inflation *
-                              solver.eigenvectors() * values.cwiseInverse().asDiagonal() *
-                              solver.eigenvectors().transpose();
+                              solver.vectors * values.cwiseInverse().asDiagonal() *
+                              solver.vectors.transpose();
   for (std::size_t i = 0; i < targets_in_target.size(); ++i) {
     const Eigen::Vector3d lever = targets_in_target[i] - icp.centre_in_target;
     Eigen::Matrix<double, 3, 6> jacobian;  // displacement omega x lever + v

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "tofnav/core/statistics.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/report/mesh_render.hpp"
 #include "tofnav/report/report_internal.hpp"
@@ -13,7 +14,6 @@
 namespace tofnav::report_internal {
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kErrorQuantile = 0.95;  // colour scale top when the options leave it automatic
 // The registered reconstruction lies on the skin; drawing it this much nearer in the z-buffer
 // shows it wherever the two agree to within about a millimetre.

@@ -9,34 +9,34 @@
 namespace tofnav {
 namespace {
 
-using Json = nlohmann::ordered_json;
+using OrderedJson = nlohmann::ordered_json;
 
 constexpr const char* kMarkupsSchema =
     "https://raw.githubusercontent.com/slicer/slicer/master/Modules/Loadable/Markups/Resources/"
     "Schema/markups-schema-v1.0.3.json#";
 
-Json ControlPoint(int id, const char* label, const Eigen::Vector3d& position) {
-  return Json{{"id", std::to_string(id)},
-              {"label", label},
-              {"position", {position.x(), position.y(), position.z()}},
-              {"positionStatus", "defined"}};
+OrderedJson ControlPoint(int id, const char* label, const Eigen::Vector3d& position) {
+  return OrderedJson{{"id", std::to_string(id)},
+                     {"label", label},
+                     {"position", {position.x(), position.y(), position.z()}},
+                     {"positionStatus", "defined"}};
 }
 
 }  // namespace
 
 std::string EncodeTrajectoryMarkups(const std::vector<sim::Trajectory>& plan) {
-  Json markups = Json::array();
+  OrderedJson markups = OrderedJson::array();
   for (const sim::Trajectory& t : plan) {
-    markups.push_back(Json{{"type", "Line"},
-                           {"name", t.name},
-                           {"coordinateSystem", "LPS"},
-                           {"coordinateUnits", "mm"},
-                           {"locked", true},
-                           {"controlPoints",
-                            {ControlPoint(1, "entry", t.entry_in_image),
-                             ControlPoint(2, "target", t.target_in_image)}}});
+    markups.push_back(OrderedJson{{"type", "Line"},
+                                  {"name", t.name},
+                                  {"coordinateSystem", "LPS"},
+                                  {"coordinateUnits", "mm"},
+                                  {"locked", true},
+                                  {"controlPoints",
+                                   {ControlPoint(1, "entry", t.entry_in_image),
+                                    ControlPoint(2, "target", t.target_in_image)}}});
   }
-  return Json{{"@schema", kMarkupsSchema}, {"markups", markups}}.dump(2) + "\n";
+  return OrderedJson{{"@schema", kMarkupsSchema}, {"markups", markups}}.dump(2) + "\n";
 }
 
 void WriteTrajectoryMarkups(const std::filesystem::path& path,

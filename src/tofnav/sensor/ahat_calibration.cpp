@@ -10,13 +10,13 @@
 #include <optional>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
 
 namespace tofnav {
 namespace {
 
 constexpr double kPinholeCentrePx = 255.5;  // centre of a 512-pixel pinhole, integer-centred
-constexpr double kMmPerMetre = 1000.0;
 
 /// Radial profile theta(r) with the fold of docs/ahat.md section 11 beyond fold_radius_px.
 class RadialProfile {

@@ -30,19 +30,17 @@ PlanePoint AnglePlaneFromUnitPlane(double x, double y) {
   return {static_cast<float>(scale * x), static_cast<float>(scale * y)};
 }
 
-bool IsFinite(const PlanePoint& p) { return std::isfinite(p.x) && std::isfinite(p.y); }
-
 /// Fills NaN nodes from a finite 8-neighbour, so points just outside the scattered region still
 /// get a start for Newton (which then decides validity).
 Image<PlanePoint> Dilate(const Image<PlanePoint>& nodes) {
   Image<PlanePoint> out = nodes;
   for (int j = 0; j < nodes.height(); ++j) {
     for (int i = 0; i < nodes.width(); ++i) {
-      if (IsFinite(nodes(i, j))) continue;
+      if (nodes(i, j).finite()) continue;
       for (int k = 0; k < 9; ++k) {
         const int ni = i + k % 3 - 1;
         const int nj = j + k / 3 - 1;
-        if (nodes.Contains(ni, nj) && IsFinite(nodes(ni, nj))) {
+        if (nodes.Contains(ni, nj) && nodes(ni, nj).finite()) {
           out(i, j) = nodes(ni, nj);
           break;
         }
@@ -185,13 +183,13 @@ std::optional<Eigen::Vector2d> AhatCamera::InitialGuess(const Eigen::Vector2d& x
   const PlanePoint& q10 = inverse_(i + 1, j);
   const PlanePoint& q01 = inverse_(i, j + 1);
   const PlanePoint& q11 = inverse_(i + 1, j + 1);
-  if (IsFinite(q00) && IsFinite(q10) && IsFinite(q01) && IsFinite(q11)) {
+  if (q00.finite() && q10.finite() && q01.finite() && q11.finite()) {
     return Eigen::Vector2d(
         (1.0 - b) * ((1.0 - a) * q00.x + a * q10.x) + b * ((1.0 - a) * q01.x + a * q11.x),
         (1.0 - b) * ((1.0 - a) * q00.y + a * q10.y) + b * ((1.0 - a) * q01.y + a * q11.y));
   }
   for (const PlanePoint* q : {&q00, &q10, &q01, &q11}) {
-    if (IsFinite(*q)) return Eigen::Vector2d(q->x, q->y);
+    if (q->finite()) return Eigen::Vector2d(q->x, q->y);
   }
   return std::nullopt;
 }

@@ -17,8 +17,6 @@ constexpr double kCellSlackPx = 1e-6;      // a converged point this close to a 
 constexpr double kMinDeterminant = 1e-14;  // unit-plane^2 per px^2; the centre has ~1.5e-5
 constexpr int kSearchRadiusCells = 2;      // fallback search around a guess Newton could not use
 
-bool IsFinite(const PlanePoint& xy) { return std::isfinite(xy.x) && std::isfinite(xy.y); }
-
 /// One table cell as x(a, b) = x0 + xa a + (xb + xab a) b, and the same for y (scalars: this is
 /// the inner loop of every projection, and it must stay fast unoptimised too).
 struct Cell {
@@ -197,7 +195,7 @@ std::optional<Eigen::Vector2d> InvertBilinear(const UnitPlaneTable& table, const
 std::optional<Eigen::Vector2d> FindTablePrincipalPoint(const UnitPlaneTable& table) {
   Mask finite(table.width(), table.height());
   for (int v = 0; v < table.height(); ++v) {
-    for (int u = 0; u < table.width(); ++u) finite(u, v) = IsFinite(table(u, v)) ? 1 : 0;
+    for (int u = 0; u < table.width(); ++u) finite(u, v) = table(u, v).finite() ? 1 : 0;
   }
   // The entry nearest to (0, 0) among those where x grows with u and y with v through it:
   // zero-filled failures and folded corners fail that test.

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -16,6 +17,8 @@ struct PlanePoint {
   float x = 0.0f;
   float y = 0.0f;
   bool operator==(const PlanePoint&) const = default;
+  /// Both coordinates finite (NaN marks an entry without a ray).
+  bool finite() const { return std::isfinite(x) && std::isfinite(y); }
 };
 /// A grid of unit-plane points indexed by table position (column, row).
 using UnitPlaneTable = Image<PlanePoint>;

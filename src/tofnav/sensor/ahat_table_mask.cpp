@@ -10,8 +10,6 @@ namespace {
 
 constexpr double kZeroFillMinRadiusPx = 2.0;  // exact (0, 0) farther than this is a failed call
 
-bool IsFinite(const PlanePoint& xy) { return std::isfinite(xy.x) && std::isfinite(xy.y); }
-
 /// Walks entries first, first + step, ... while `coordinate` keeps growing in `step`'s sense;
 /// calls clear() on every entry from the first that breaks the rule to the end of the line.
 template <typename Coordinate, typename Clear>
@@ -40,7 +38,7 @@ Mask MonotoneTableMask(const UnitPlaneTable& table, const Eigen::Vector2d& princ
       const double du = u - principal_point.x();
       const double dv = v - principal_point.y();
       const bool zero_fill = xy.x == 0.0f && xy.y == 0.0f && du * du + dv * dv > zero_fill_radius2;
-      mask(u, v) = (IsFinite(xy) && !zero_fill) ? 1 : 0;
+      mask(u, v) = (xy.finite() && !zero_fill) ? 1 : 0;
     }
   }
   const auto nearest_index = [](double position, int entries) {

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/sim/head_phantom.hpp"
 #include "tofnav/sim/occluders.hpp"
@@ -24,7 +25,7 @@ constexpr double kDrapeClearanceMm = 22.0;  // opening beyond the cranium's cros
 
 // A frame whose x axis is `x_axis` (the hand's forearm-to-fingers direction).
 Eigen::Quaterniond AlongX(const Eigen::Vector3d& x_axis) {
-  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitX(), x_axis.normalized());
+  return RotationBetween(Eigen::Vector3d::UnitX(), x_axis.normalized());
 }
 
 const Tool& NamedTool(const Scenario& s, const char* name) {

@@ -10,12 +10,11 @@
 #include <utility>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/sim/random.hpp"
 
 namespace tofnav::sim {
 namespace {
-
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 // Triangle wave over [0, span]: position after travelling `distance` back and forth.
 double PingPong(double distance, double span) {

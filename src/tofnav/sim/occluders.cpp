@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/sim/random.hpp"
 #include "tofnav/sim/shapes.hpp"
 #include "tofnav/sim/tool_presets.hpp"
@@ -17,7 +18,6 @@
 namespace tofnav::sim {
 namespace {
 
-constexpr double kTwoPi = 2.0 * std::numbers::pi;
 constexpr double kRodGapMm = 1.0;  // between the rod and the tool's z = 0 plane
 constexpr int kFolds = 6;
 

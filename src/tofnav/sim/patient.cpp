@@ -2,7 +2,6 @@
 // Patient heads, skin stickers and the plan.
 #include "tofnav/sim/patient.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
@@ -11,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/sim/mesh_probe.hpp"
 
@@ -113,8 +113,8 @@ std::pair<Eigen::Vector3d, Eigen::Vector3d> MeanPlane(const std::vector<Eigen::V
   mean /= static_cast<double>(under.size());
   Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
   for (const Eigen::Vector3d& p : under) scatter += (p - mean) * (p - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(scatter);
-  const Eigen::Vector3d axis = solver.eigenvectors().col(0);
+  const auto solver = DecomposeSymmetric(scatter);
+  const Eigen::Vector3d axis = solver.vectors.col(0);
   return {mean, axis.dot(normal) >= 0.0 ? axis : Eigen::Vector3d(-axis)};
 }
 

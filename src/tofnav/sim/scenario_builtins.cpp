@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/sim/evd_occluders.hpp"
 #include "tofnav/sim/patient.hpp"
 #include "tofnav/sim/scenario_pivot.hpp"
@@ -17,7 +18,6 @@
 namespace tofnav::sim {
 namespace {
 
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 constexpr double kRateHz = 45.0;
 
 Rigid3d Translation(const Eigen::Vector3d& t) { return {Eigen::Quaterniond::Identity(), t}; }

@@ -10,13 +10,13 @@
 #include <numbers>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/sim/mesh_probe.hpp"
 
 namespace tofnav::sim {
 namespace {
 
 constexpr double kRateHz = 45.0;
-constexpr double kDegToRad = std::numbers::pi / 180.0;
 
 // Pose of mount `name` seen from the camera at `slot`.
 Rigid3d AhatFromMount(const Scenario& s, const std::string& name, std::int64_t slot) {

@@ -14,7 +14,7 @@ namespace {
 
 constexpr Rgba kNeverSent{-1.0f, -1.0f, -1.0f, -1.0f};
 
-std::chrono::steady_clock::duration Seconds(double s) {
+std::chrono::steady_clock::duration Duration(double s) {
   return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
       std::chrono::duration<double>(s));
 }
@@ -75,7 +75,7 @@ void HeadsetDisplay::SpeakOnChange(const HeadsetScene& scene, const NavigationSt
                                    std::vector<std::string>& speech) {
   const Clock::time_point now = Clock::now();
   const auto may_say = [&](std::optional<Clock::time_point>& said_at) {
-    if (said_at && now - *said_at < Seconds(options_.speech_interval_s)) return false;
+    if (said_at && now - *said_at < Duration(options_.speech_interval_s)) return false;
     said_at = now;
     return true;
   };
@@ -96,7 +96,7 @@ void HeadsetDisplay::Run() {
   std::unique_lock lock(mutex_);
   while (!stop_) {
     // Wakes for a post, or twice per expire_after_s to hide a scene no update refreshes.
-    wake_.wait_for(lock, Seconds(0.5 * options_.expire_after_s),
+    wake_.wait_for(lock, Duration(0.5 * options_.expire_after_s),
                    [&] { return stop_ || mailbox_.has_value(); });
     if (stop_) break;
     if (mailbox_) {
@@ -113,7 +113,7 @@ void HeadsetDisplay::Run() {
     const bool visible =
         std::any_of(shown_.begin(), shown_.end(), [](const Hologram& h) { return h.visible; });
     if (!visible || expired_ ||
-        Clock::now() - last_posted_at_ <= Seconds(options_.expire_after_s)) {
+        Clock::now() - last_posted_at_ <= Duration(options_.expire_after_s)) {
       continue;
     }
     ++stats_.expired;
@@ -210,7 +210,7 @@ bool HeadsetDisplay::EnsureConnected() {
   if (client_) return true;
   const Clock::time_point now = Clock::now();
   if (next_connect_at_ && now < *next_connect_at_) return false;
-  next_connect_at_ = now + Seconds(options_.reconnect_interval_s);
+  next_connect_at_ = now + Duration(options_.reconnect_interval_s);
   const HeadsetScene layout = ComposeHeadsetScene(NavigationState{}, plan_, options_.scene);
   try {
     client_ =
@@ -252,7 +252,7 @@ void HeadsetDisplay::Disconnect(const std::string& error) {
   client_.reset();
   keys_.clear();
   shown_.clear();
-  next_connect_at_ = Clock::now() + Seconds(options_.reconnect_interval_s);
+  next_connect_at_ = Clock::now() + Duration(options_.reconnect_interval_s);
   const std::lock_guard lock(mutex_);
   ++stats_.disconnects;
   stats_.connected = false;
@@ -291,7 +291,7 @@ void HeadsetDisplay::Close() {
 
 bool HeadsetDisplay::WaitUntilHandled(double timeout_s) {
   std::unique_lock lock(mutex_);
-  return handled_.wait_for(lock, Seconds(timeout_s), [&] { return handled_sequence_ >= posted_; });
+  return handled_.wait_for(lock, Duration(timeout_s), [&] { return handled_sequence_ >= posted_; });
 }
 
 HeadsetDisplayStats HeadsetDisplay::stats() const {

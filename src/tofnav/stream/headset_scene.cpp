@@ -8,12 +8,12 @@
 #include <numbers>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/pipeline/guidance.hpp"
 
 namespace tofnav {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr Rgba kGrey{0.6f, 0.6f, 0.6f, 1.0f};
 constexpr Rgba kAmber{1.0f, 0.65f, 0.0f, 1.0f};
 constexpr Rgba kGreen{0.15f, 0.9f, 0.25f, 1.0f};

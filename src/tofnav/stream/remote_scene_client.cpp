@@ -19,7 +19,7 @@
 namespace tofnav {
 namespace {
 
-[[noreturn]] void Fail(const std::string& where, const std::string& what, int error) {
+[[noreturn]] void FailSocketCall(const std::string& where, const std::string& what, int error) {
   throw IoError(where, std::nullopt, what + ": " + std::strerror(error));
 }
 
@@ -39,22 +39,22 @@ SocketFd ConnectWithin(const std::string& host, int port, double timeout_s,
   SocketFd fd(::socket(AF_INET, SOCK_STREAM | SOCK_CLOEXEC, 0));
   if (!fd.valid()) {
     ::freeaddrinfo(found);
-    Fail(where, "socket", errno);
+    FailSocketCall(where, "socket", errno);
   }
   SetNonBlocking(fd);
   const int rc = ::connect(fd.get(), found->ai_addr, found->ai_addrlen);
   const int connect_errno = errno;
   ::freeaddrinfo(found);
-  if (rc != 0 && connect_errno != EINPROGRESS) Fail(where, "connect", connect_errno);
+  if (rc != 0 && connect_errno != EINPROGRESS) FailSocketCall(where, "connect", connect_errno);
   if (rc != 0) {
     pollfd p{fd.get(), POLLOUT, 0};
     const int ready = ::poll(&p, 1, static_cast<int>(std::ceil(timeout_s * 1000.0)));
     if (ready == 0) throw IoError(where, std::nullopt, "connect timed out");
-    if (ready < 0) Fail(where, "poll", errno);
+    if (ready < 0) FailSocketCall(where, "poll", errno);
     int error = 0;
     socklen_t size = sizeof(error);
     ::getsockopt(fd.get(), SOL_SOCKET, SO_ERROR, &error, &size);
-    if (error != 0) Fail(where, "connect", error);
+    if (error != 0) FailSocketCall(where, "connect", error);
   }
   const int flags = ::fcntl(fd.get(), F_GETFL, 0);
   ::fcntl(fd.get(), F_SETFL, flags & ~O_NONBLOCK);

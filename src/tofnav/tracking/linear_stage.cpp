@@ -6,6 +6,7 @@
 #include <cmath>
 #include <optional>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/markers/marker_centre.hpp"
 
@@ -118,10 +119,12 @@ StageRangeErrorResult MeasureMarkerRangeErrors(std::span<const StageFrame> frame
           result.line_origin_mm + result.line_velocity_mm_per_s * design(i, 1);
     }
   } else {
-    const Eigen::Vector3d mean = positions.colwise().mean().transpose();
+    std::vector<Eigen::Vector3d> points(posed.size());
+    for (Eigen::Index i = 0; i < n; ++i) points[static_cast<std::size_t>(i)] = positions.row(i);
+    const PrincipalAxes principal = ComputePrincipalAxes(points);
+    const Eigen::Vector3d mean = principal.centroid;
     const Eigen::MatrixXd centred = positions.rowwise() - mean.transpose();
-    const Eigen::Vector3d direction =
-        Eigen::JacobiSVD<Eigen::MatrixXd>(centred, Eigen::ComputeThinV).matrixV().col(0);
+    const Eigen::Vector3d direction = principal.axes.col(0);
     result.line_origin_mm = mean;
     result.line_velocity_mm_per_s = direction;
     for (Eigen::Index i = 0; i < n; ++i) {

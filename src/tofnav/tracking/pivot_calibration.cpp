@@ -3,11 +3,11 @@
 // calibration").
 #include "tofnav/tracking/pivot_calibration.hpp"
 
-#include <Eigen/Cholesky>
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 
 namespace tofnav {
@@ -40,7 +40,7 @@ void FitPivot(std::span<const Rigid3d> poses, PivotCalibrationResult& result) {
     rhs.head<3>() -= r.transpose() * pose.translation;
     rhs.tail<3>() += pose.translation;
   }
-  const Eigen::Matrix<double, 6, 1> x = normal.ldlt().solve(rhs);
+  const Eigen::Matrix<double, 6, 1> x = SolveSymmetric(normal, rhs);
   result.tip_in_instrument = x.head<3>();
   result.pivot_in_reference = x.tail<3>();
   double sum_sq = 0.0;

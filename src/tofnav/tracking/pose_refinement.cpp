@@ -2,11 +2,11 @@
 // Anisotropic pose refinement: per-marker ray, range and sigmas, then Gauss-Newton.
 #include "tofnav/tracking/pose_refinement.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 #include <vector>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/markers/marker_centre.hpp"
 #include "tofnav/tracking/ray_pose.hpp"
@@ -24,11 +24,11 @@ std::optional<Eigen::Vector3d> ToolPlaneNormal(const Points3d& markers) {
   mean /= static_cast<double>(markers.size());
   Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
   for (const Eigen::Vector3d& m : markers) cov += (m - mean) * (m - mean).transpose();
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  const auto eig = DecomposeSymmetric(cov);
   const double rms_mm =
-      std::sqrt(std::max(0.0, eig.eigenvalues()(0)) / static_cast<double>(markers.size()));
+      std::sqrt(std::max(0.0, eig.values(0)) / static_cast<double>(markers.size()));
   if (rms_mm > kMaxPlanarityRmsMm) return std::nullopt;
-  return eig.eigenvectors().col(0);
+  return eig.vectors.col(0);
 }
 
 // Range and sigma of one marker: with `normal` (a flat disc's normal in ahat), each core pixel

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/core/rotation_vector.hpp"
 
@@ -37,7 +38,7 @@ RayPoseResult WeightedGaussNewton(std::span<const Eigen::Vector3d> markers,
       h += jw * j;
       g += jw * (rm + translation - targets[i]);
     }
-    const Eigen::Matrix<double, 6, 1> step = -h.ldlt().solve(g);
+    const Eigen::Matrix<double, 6, 1> step = -SolveSymmetric(h, g);
     if (!step.allFinite()) break;
     const Eigen::Vector3d w = step.head<3>();
     rotation = FromRotationVector(w).toRotationMatrix() * rotation;

@@ -2,11 +2,11 @@
 // DefineTool: distance-matched frames averaged by generalised Procrustes (docs/tracking.md 10).
 #include "tofnav/tracking/tool_definition.hpp"
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <map>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/core/rigid_fit.hpp"
 #include "tofnav/markers/marker_centre.hpp"
@@ -73,10 +73,9 @@ Points3d ReferenceFrame(const std::vector<Points3d>& frames, std::size_t count) 
 // The markers in their own frame: centroid origin, principal axes, x and y signs fixed by the
 // first marker with a clear coordinate on them, z = x cross y.
 Points3d Canonical(const Points3d& points) {
-  Eigen::Vector3d mean;
-  const Eigen::MatrixXd centred = CentredRows(points, mean);
-  const Eigen::JacobiSVD<Eigen::MatrixXd> svd(centred, Eigen::ComputeThinV);
-  Eigen::Matrix3d axes = svd.matrixV();  // columns: principal directions
+  const PrincipalAxes principal = ComputePrincipalAxes(points);
+  const Eigen::Vector3d& mean = principal.centroid;
+  Eigen::Matrix3d axes = principal.axes;  // columns: principal directions
   for (int a = 0; a < 2; ++a) {
     for (const Eigen::Vector3d& p : points) {
       const double c = (p - mean).dot(axes.col(a));

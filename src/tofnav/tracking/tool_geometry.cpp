@@ -2,11 +2,11 @@
 // Tool validation and the symmetry / confusion report (docs/tracking.md 9.7).
 #include "tofnav/tracking/tool_geometry.hpp"
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/core/rigid_fit.hpp"
 
@@ -19,10 +19,8 @@ constexpr double kCollinearMm = 1.0;  // second singular value / sqrt(n) below t
 constexpr double kPruneMm = 20.0;
 
 std::vector<double> SingularValues(const Points3d& points) {
-  Eigen::Vector3d mean;
-  const Eigen::MatrixXd centred = CentredRows(points, mean);
-  const Eigen::VectorXd s = Eigen::JacobiSVD<Eigen::MatrixXd>(centred).singularValues();
-  return {s.data(), s.data() + s.size()};
+  const Eigen::Vector3d s = ComputePrincipalAxes(points).spreads;
+  return {s.data(), s.data() + std::min<std::size_t>(points.size(), 3)};  // as many as an SVD
 }
 
 // Min FRE of proper rigid fits of `size`-subsets of a (in index order) onto distinct markers of

@@ -8,10 +8,10 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "tofnav/core/units.hpp"
+
 namespace tofnav {
 namespace {
-
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 
 PoseErrorStats Stats(const std::vector<double>& mm, const std::vector<double>& deg) {
   return {Summarise(mm), Summarise(deg)};

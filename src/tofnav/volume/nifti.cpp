@@ -19,7 +19,6 @@ namespace {
 
 constexpr std::size_t kHeaderBytes = 348;
 constexpr std::size_t kSingleFileVoxOffset = 352;  // header + 4-byte extension flag
-constexpr std::uint64_t kMaxDeflateRatio = 1032;   // deflate expands at most ~1032:1
 const Eigen::Vector3d kRasToLps(-1.0, -1.0, 1.0);  // diagonal: negate the first two rows
 
 std::optional<SampleType> SampleTypeOf(int datatype) {

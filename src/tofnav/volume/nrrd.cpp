@@ -21,10 +21,6 @@
 namespace tofnav {
 namespace {
 
-// deflate cannot expand data by more than about 1032:1; a gzip block shorter than
-// expected / kMaxDeflateRatio cannot hold the data (checked before inflating).
-constexpr std::uint64_t kMaxDeflateRatio = 1032;
-
 // image_from_ijk from space directions, else spacings, else unit steps (docs/openigtlink.md 5.2).
 void SetGeometry(const NrrdHeader& h, const std::filesystem::path& path, CtVolume& volume) {
   const auto fail = [&](const std::string& message) { throw IoError(path, h.end_offset, message); };
