@@ -48,7 +48,7 @@ TEST(HeadsetE2E, DisplayedPlanMatchesTheTruthInRealTime) {
   const std::vector<Trajectory>& plan = c.navigation_case.plan;
   Navigator navigator(simulator.camera(), c.navigation_case);
 
-  FakeRemoteSceneServer server;
+  FakeRemoteSceneServer server(0, {.frame_rate_hz = 60.0});  // the plugin's frame loop
   std::mutex mutex;
   std::vector<double> target_mm, entry_mm, path_mm;
   FakeRemoteScene shown;  // the last scene with holograms on (for the figure)
@@ -88,6 +88,12 @@ TEST(HeadsetE2E, DisplayedPlanMatchesTheTruthInRealTime) {
     const Clock::time_point arrival = Clock::now();
     const NavigationState state = navigator.Process(frames[k]);
     display.Update(state);
+    if (k == 0) {  // issue 37: the connect carries the first scene, nothing dropped meanwhile
+      ASSERT_TRUE(display.WaitUntilHandled(5.0));
+      EXPECT_EQ(display.stats().display_lists, 1u);
+      EXPECT_EQ(display.stats().dropped, 0u);
+      EXPECT_EQ(server.scene().frame - server.stats().connection_first_frame + 1, 1u);
+    }
     if (state.world_from_rig) eye_in_world = state.world_from_rig->translation;
     tracking += state.status == NavigationStatus::kTracking ? 1 : 0;
     if (state.status == NavigationStatus::kTracking) last = state;

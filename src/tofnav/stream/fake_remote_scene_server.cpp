@@ -8,6 +8,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <chrono>
 
@@ -30,7 +31,8 @@ Rgba ReadColour(ByteReader& r) {
 
 }  // namespace
 
-FakeRemoteSceneServer::FakeRemoteSceneServer(int port) {
+FakeRemoteSceneServer::FakeRemoteSceneServer(int port, const FakeRemoteSceneOptions& options)
+    : options_(options) {
   listener_ = ListenTcp("127.0.0.1", port);
   port_ = LocalPort(listener_);
   wake_ = SocketFd(::eventfd(0, EFD_NONBLOCK | EFD_CLOEXEC));
@@ -90,6 +92,7 @@ void FakeRemoteSceneServer::Commit(bool end_of_display_list) {
   std::function<void(const FakeRemoteScene&)> callback;
   {
     const std::lock_guard lock(mutex_);
+    working_.frame = frame_;
     committed_ = working_;
     callback = on_display_list_;
   }
@@ -182,7 +185,34 @@ std::uint32_t FakeRemoteSceneServer::Process(const RemoteSceneCommand& command) 
   return 0;
 }
 
+void FakeRemoteSceneServer::RunCommand(const RemoteSceneCommand& c,
+                                       std::vector<std::uint8_t>& replies) {
+  if (mute_) return;
+  if (c.id == static_cast<std::uint32_t>(RemoteSceneCommandId::kSay) && !options_.say_answers) {
+    mute_ = true;  // the plugin's handler threw: no reply, now or later
+    return;
+  }
+  const std::uint32_t result = Process(c);
+  for (int byte = 0; byte < 4; ++byte) {  // little-endian u32
+    replies.push_back(static_cast<std::uint8_t>(result >> (8 * byte)));
+  }
+  {
+    const std::lock_guard lock(mutex_);
+    ++stats_.commands;
+    if (result == 0) ++stats_.rejected;
+    if (stats_.connection_first_frame == 0) stats_.connection_first_frame = frame_;
+  }
+  if (!in_display_list_) {
+    Commit(c.id == static_cast<std::uint32_t>(RemoteSceneCommandId::kEndDisplayList));
+  }
+}
+
 void FakeRemoteSceneServer::Run() {
+  using Clock = std::chrono::steady_clock;
+  const bool framed = options_.frame_rate_hz > 0.0;
+  const auto period = std::chrono::duration_cast<Clock::duration>(
+      std::chrono::duration<double>(framed ? 1.0 / options_.frame_rate_hz : 1.0));
+  Clock::time_point next_frame = Clock::now() + period;
   SocketFd client;
   std::vector<std::uint8_t> received;
   std::uint8_t buffer[65536];
@@ -194,9 +224,38 @@ void FakeRemoteSceneServer::Run() {
       if (drop_) client.Close();
       drop_ = false;
     }
-    pollfd fds[3] = {{listener_.get(), POLLIN, 0}, {wake_.get(), POLLIN, 0}, {-1, POLLIN, 0}};
+    // One client at a time: while one is connected, the next waits in the listen backlog.
+    pollfd fds[3] = {{client.valid() ? -1 : listener_.get(), POLLIN, 0},
+                     {wake_.get(), POLLIN, 0},
+                     {-1, POLLIN, 0}};
     if (client.valid() && !stalled) fds[2].fd = client.get();
-    if (::poll(fds, 3, stalled ? 20 : 200) < 0 && errno != EINTR) break;
+    int timeout_ms = stalled ? 20 : 200;
+    if (framed) {
+      timeout_ms = static_cast<int>(std::clamp<std::int64_t>(
+          std::chrono::duration_cast<std::chrono::milliseconds>(next_frame - Clock::now()).count(),
+          0, timeout_ms));
+    }
+    if (::poll(fds, 3, timeout_ms) < 0 && errno != EINTR) break;
+    if (framed && Clock::now() >= next_frame) {  // one Unity frame of the plugin
+      next_frame = std::max(next_frame + period, Clock::now());
+      ++frame_;
+      {
+        const std::lock_guard lock(mutex_);
+        stats_.frames = frame_;
+      }
+      std::vector<std::uint8_t> replies;
+      if (!stalled && !pending_.empty()) {
+        do {
+          RunCommand(pending_.front(), replies);
+          pending_.pop_front();
+        } while (in_display_list_ && !pending_.empty());
+      }
+      try {
+        if (client.valid() && !replies.empty()) WriteAll(client, replies, kSource);
+      } catch (const IoError&) {
+        client.Close();
+      }
+    }
     if ((fds[1].revents & POLLIN) != 0) {
       std::uint64_t count = 0;
       [[maybe_unused]] const ssize_t n = ::read(wake_.get(), &count, sizeof(count));
@@ -206,9 +265,11 @@ void FakeRemoteSceneServer::Run() {
       if (accepted.valid()) {
         client = std::move(accepted);  // the plugin's disconnect message: reset the modes
         received.clear();
-        in_display_list_ = use_last_key_ = false;
+        pending_.clear();
+        in_display_list_ = use_last_key_ = mute_ = false;
         const std::lock_guard lock(mutex_);
         ++stats_.connections;
+        stats_.connection_first_frame = 0;
       }
     }
     if (fds[2].fd < 0 || (fds[2].revents & (POLLIN | POLLHUP | POLLERR)) == 0) continue;
@@ -224,21 +285,14 @@ void FakeRemoteSceneServer::Run() {
     received.insert(received.end(), buffer, buffer + n);
     std::vector<std::uint8_t> results;
     try {
-      for (const RemoteSceneCommand& c : TakeRemoteSceneCommands(received, kSource)) {
-        const std::uint32_t result = Process(c);
-        for (int byte = 0; byte < 4; ++byte) {  // little-endian u32
-          results.push_back(static_cast<std::uint8_t>(result >> (8 * byte)));
-        }
-        {
-          const std::lock_guard lock(mutex_);
-          ++stats_.commands;
-          if (result == 0) ++stats_.rejected;
-        }
-        if (!in_display_list_) {
-          Commit(c.id == static_cast<std::uint32_t>(RemoteSceneCommandId::kEndDisplayList));
+      for (RemoteSceneCommand& c : TakeRemoteSceneCommands(received, kSource)) {
+        if (framed) {
+          pending_.push_back(std::move(c));
+        } else {
+          RunCommand(c, results);
         }
       }
-      WriteAll(client, results, kSource);
+      if (!results.empty()) WriteAll(client, results, kSource);
     } catch (const IoError&) {
       client.Close();
     }

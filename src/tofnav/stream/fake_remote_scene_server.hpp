@@ -6,6 +6,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <deque>
 #include <functional>
 #include <map>
 #include <mutex>
@@ -34,19 +35,34 @@ struct FakeRemoteScene {
   std::vector<std::uint32_t> created;                // every key handed out, in order
   std::vector<std::string> spoken;
   std::uint64_t display_lists = 0;
+  std::uint64_t frame = 0;  // the plugin frame that committed this scene (frame mode)
 };
 
 struct FakeRemoteSceneStats {
   std::uint64_t connections = 0;
   std::uint64_t commands = 0;
-  std::uint64_t rejected = 0;  // answered 0: unknown key, short payload, unknown id
+  std::uint64_t rejected = 0;                // answered 0: unknown key, short payload, unknown id
+  std::uint64_t frames = 0;                  // plugin frames run (frame mode)
+  std::uint64_t connection_first_frame = 0;  // the frame that ran the connection's first command
 };
 
-/// One client at a time (a new connection replaces the old). Keys are handed out as the plugin
-/// does (Unity instance ids: negative ints as u32, never 0).
+/// How closely the stand-in behaves like the real plugin over time.
+struct FakeRemoteSceneOptions {
+  /// 0: every command is run as it arrives (instant). > 0: the plugin's Unity frame loop: one
+  /// command per frame outside a display list; inside one, every command already received, in
+  /// the same frame (docs/navigation.md, "Headset display"). The real plugin runs at 60 Hz.
+  double frame_rate_hz = 0.0;
+  /// false: the app has no text-to-speech component, so `say` throws in the plugin and neither
+  /// it nor any later command of the connection is answered.
+  bool say_answers = true;
+};
+
+/// One client at a time, as the plugin: a second connection waits unanswered until the first
+/// ends. Nothing is destroyed on disconnect. Keys are handed out as the plugin does (Unity
+/// instance ids: negative ints as u32, never 0).
 class FakeRemoteSceneServer {
  public:
-  explicit FakeRemoteSceneServer(int port = 0);
+  explicit FakeRemoteSceneServer(int port = 0, const FakeRemoteSceneOptions& options = {});
   ~FakeRemoteSceneServer();
   FakeRemoteSceneServer(const FakeRemoteSceneServer&) = delete;
   FakeRemoteSceneServer& operator=(const FakeRemoteSceneServer&) = delete;
@@ -69,7 +85,10 @@ class FakeRemoteSceneServer {
   void Wake();
   std::uint32_t Process(const RemoteSceneCommand& command);
   void Commit(bool end_of_display_list);
+  /// Runs `command`, appends its reply to `replies` (none once the connection is mute).
+  void RunCommand(const RemoteSceneCommand& command, std::vector<std::uint8_t>& replies);
 
+  FakeRemoteSceneOptions options_;
   SocketFd listener_;
   SocketFd wake_;  // eventfd
   int port_ = 0;
@@ -86,6 +105,9 @@ class FakeRemoteSceneServer {
   bool in_display_list_ = false;
   bool use_last_key_ = false;
   std::uint32_t last_key_ = 0;
+  bool mute_ = false;  // a failed say: nothing more is answered on this connection
+  std::deque<RemoteSceneCommand> pending_;  // frame mode: received, waiting for a frame
+  std::uint64_t frame_ = 0;
   std::int32_t next_instance_id_ = -1200;
   std::thread thread_;
 };

@@ -129,10 +129,15 @@ void HeadsetDisplay::Run() {
 }
 
 void HeadsetDisplay::Handle(Post post) {
-  if (!EnsureConnected()) {
-    const std::lock_guard lock(mutex_);
-    ++stats_.dropped;
-    return;
+  const bool connecting = !client_;
+  if (connecting) {  // at most one attempt per reconnect interval
+    const Clock::time_point now = Clock::now();
+    if (next_connect_at_ && now < *next_connect_at_) {
+      const std::lock_guard lock(mutex_);
+      ++stats_.dropped;
+      return;
+    }
+    next_connect_at_ = now + Duration(options_.reconnect_interval_s);
   }
   if (post.sequence != 0) {
     last_posted_at_ = post.posted_at;
@@ -146,44 +151,49 @@ void HeadsetDisplay::Handle(Post post) {
     const std::lock_guard lock(mutex_);
     ++stats_.too_old;
   }
-  std::vector<Hologram> next = shown_;
+  // One display list, so that the plugin shows the whole change in one of its frames. On
+  // connecting it also clears what an earlier run left and creates every hologram, each set up
+  // right after its creation through the plugin's last-key target mode (docs/navigation.md 6).
   RemoteSceneCommands c;
   c.BeginDisplayList();
-  for (std::size_t s = 0; s < next.size(); ++s) {
-    const Hologram& want = post.scene.holograms[s];
-    const Hologram& have = shown_[s];
-    if (!HologramChanged(have, want, options_.min_move_mm, options_.min_turn_rad)) continue;
-    const std::uint32_t key = keys_[s];
-    if (want.visible) {
-      const bool moved =
-          !have.visible || HologramMoved(have, want, options_.min_move_mm, options_.min_turn_rad);
-      if (moved) c.SetWorldTransform(key, TransformOf(want, options_.scene.up_in_world));
+  std::vector<Hologram> next;
+  std::vector<std::size_t> created_at;  // command index of each hologram's creation
+  if (connecting) {
+    c.RemoveAll();
+    c.SetTargetMode(1);
+    for (const Hologram& want : post.scene.holograms) {
+      created_at.push_back(c.count());
       if (want.shape == HologramShape::kText) {
-        if (want.text != have.text || !(want.colour == have.colour)) {
-          c.SetText(key, options_.scene.font_size, want.colour, want.text);
-        }
-      } else if (!(want.colour == have.colour)) {
-        c.SetColour(key, want.colour);
+        c.CreateText();
+      } else {
+        c.CreatePrimitive(want.shape == HologramShape::kSphere ? UnityPrimitive::kSphere
+                                                               : UnityPrimitive::kCylinder);
       }
-      if (!have.visible) c.SetActive(key, true);
-      next[s] = want;
-      if (!moved) {  // keep what the headset shows, so small drifts add up to a send
-        next[s].a_in_world = have.a_in_world;
-        next[s].b_in_world = have.b_in_world;
-      }
-    } else {
-      if (have.visible) c.SetActive(key, false);
-      next[s].visible = false;
+      Hologram created = want;  // created inactive, nothing sent yet
+      created.visible = false;
+      created.colour = kNeverSent;
+      next.push_back(created);
+      AppendChanges(c, 0, created, want, next.back());
+    }
+    c.SetTargetMode(0);
+  } else {
+    next = shown_;
+    for (std::size_t s = 0; s < next.size(); ++s) {
+      AppendChanges(c, keys_[s], shown_[s], post.scene.holograms[s], next[s]);
     }
   }
   for (const std::string& words : post.speech) c.Say(words);
   c.EndDisplayList();
-  if (c.count() == 2) {
+  if (!connecting && c.count() == 2) {
     const std::lock_guard lock(mutex_);
     ++stats_.unchanged;
     return;
   }
   try {
+    if (connecting) {
+      client_ =
+          std::make_unique<RemoteSceneClient>(options_.host, options_.port, options_.io_timeout_s);
+    }
     const std::vector<std::uint32_t> results = client_->Push(c);
     for (std::size_t i = 0; i < results.size(); ++i) {
       if (Keyed(c.ids()[i]) && results[i] == 0) {
@@ -192,7 +202,23 @@ void HeadsetDisplay::Handle(Post post) {
                           " was rejected (the scene was reset?)");
       }
     }
-  } catch (const IoError& e) {
+    if (connecting) {
+      keys_.clear();
+      for (const std::size_t at : created_at) keys_.push_back(results[at]);
+      if (std::find(keys_.begin(), keys_.end(), 0u) != keys_.end()) {
+        throw IoError(client_->endpoint(), std::nullopt, "the headset could not create a hologram");
+      }
+    }
+  } catch (const std::exception& e) {
+    if (connecting) {
+      client_.reset();
+      keys_.clear();
+      const std::lock_guard lock(mutex_);
+      ++stats_.connect_failures;
+      ++stats_.dropped;
+      stats_.last_error = e.what();
+      return;
+    }
     Disconnect(e.what());
     const std::lock_guard lock(mutex_);
     ++stats_.dropped;
@@ -200,52 +226,40 @@ void HeadsetDisplay::Handle(Post post) {
   }
   shown_ = std::move(next);
   const std::lock_guard lock(mutex_);
+  if (connecting) {
+    ++stats_.connections;
+    stats_.connected = true;
+  }
   if (post.scene.shown) stats_.max_shown_pose_age_s = std::max(stats_.max_shown_pose_age_s, age_s);
   ++stats_.display_lists;
   stats_.commands += c.count();
   stats_.spoken += post.speech.size();
 }
 
-bool HeadsetDisplay::EnsureConnected() {
-  if (client_) return true;
-  const Clock::time_point now = Clock::now();
-  if (next_connect_at_ && now < *next_connect_at_) return false;
-  next_connect_at_ = now + Duration(options_.reconnect_interval_s);
-  const HeadsetScene layout = ComposeHeadsetScene(NavigationState{}, plan_, options_.scene);
-  try {
-    client_ =
-        std::make_unique<RemoteSceneClient>(options_.host, options_.port, options_.io_timeout_s);
-    // tofnav owns the remote scene: whatever an earlier run left is removed.
-    RemoteSceneCommands c;
-    c.RemoveAll();
-    c.SetTargetMode(0);
-    for (const Hologram& h : layout.holograms) {
-      if (h.shape == HologramShape::kText) {
-        c.CreateText();
-      } else {
-        c.CreatePrimitive(h.shape == HologramShape::kSphere ? UnityPrimitive::kSphere
-                                                            : UnityPrimitive::kCylinder);
-      }
-    }
-    const std::vector<std::uint32_t> results = client_->Push(c);
-    keys_.assign(results.begin() + 2, results.end());
-    if (std::find(keys_.begin(), keys_.end(), 0u) != keys_.end()) {
-      throw IoError(client_->endpoint(), std::nullopt, "the headset could not create a hologram");
-    }
-  } catch (const std::exception& e) {
-    client_.reset();
-    const std::lock_guard lock(mutex_);
-    ++stats_.connect_failures;
-    stats_.last_error = e.what();
-    return false;
+void HeadsetDisplay::AppendChanges(RemoteSceneCommands& c, std::uint32_t key, const Hologram& have,
+                                   const Hologram& want, Hologram& next) const {
+  if (!HologramChanged(have, want, options_.min_move_mm, options_.min_turn_rad)) return;
+  if (!want.visible) {
+    if (have.visible) c.SetActive(key, false);
+    next.visible = false;
+    return;
   }
-  shown_ = layout.holograms;  // created inactive
-  for (Hologram& h : shown_) h.colour = kNeverSent;
-  expired_ = false;
-  const std::lock_guard lock(mutex_);
-  ++stats_.connections;
-  stats_.connected = true;
-  return true;
+  const bool moved =
+      !have.visible || HologramMoved(have, want, options_.min_move_mm, options_.min_turn_rad);
+  if (moved) c.SetWorldTransform(key, TransformOf(want, options_.scene.up_in_world));
+  if (want.shape == HologramShape::kText) {
+    if (want.text != have.text || !(want.colour == have.colour)) {
+      c.SetText(key, options_.scene.font_size, want.colour, want.text);
+    }
+  } else if (!(want.colour == have.colour)) {
+    c.SetColour(key, want.colour);
+  }
+  if (!have.visible) c.SetActive(key, true);
+  next = want;
+  if (!moved) {  // keep what the headset shows, so small drifts add up to a send
+    next.a_in_world = have.a_in_world;
+    next.b_in_world = have.b_in_world;
+  }
 }
 
 void HeadsetDisplay::Disconnect(const std::string& error) {

@@ -84,7 +84,10 @@ class HeadsetDisplay {
   };
   void Run();
   void Handle(Post post);
-  bool EnsureConnected();
+  /// The commands that take the headset's hologram `key` from `have` to `want`; `next` becomes
+  /// what it will show (key 0 in the plugin's last-key target mode).
+  void AppendChanges(RemoteSceneCommands& c, std::uint32_t key, const Hologram& have,
+                     const Hologram& want, Hologram& next) const;
   void Disconnect(const std::string& error);
   void RemoveHolograms();
   void SpeakOnChange(const HeadsetScene& scene, const NavigationState& state,

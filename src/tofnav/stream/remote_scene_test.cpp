@@ -145,5 +145,67 @@ TEST(RemoteSceneClient, NoServerIsAnIoErrorWithinTheTimeout) {
   EXPECT_THROW(RemoteSceneClient("127.0.0.1", port, 0.5), IoError);
 }
 
+// The stand-in's frame loop (issue 37): the plugin runs one command per Unity frame outside a
+// display list and the whole list in one frame.
+TEST(RemoteSceneStandIn, OneCommandPerFrameOutsideDisplayListsAWholeListInOne) {
+  FakeRemoteSceneServer server(0, {.frame_rate_hz = 60.0});
+  RemoteSceneClient client("127.0.0.1", server.port(), 5.0);
+  RemoteSceneCommands loose;
+  for (int i = 0; i < 6; ++i) loose.CreateText();
+  const std::uint64_t before = server.stats().frames;
+  ASSERT_EQ(client.Push(loose).size(), 6u);
+  EXPECT_GE(server.stats().frames - before, 6u);  // one per frame
+  RemoteSceneCommands list;
+  list.BeginDisplayList();
+  for (int i = 0; i < 6; ++i) list.CreateText();
+  list.EndDisplayList();
+  const std::uint64_t lists_before = server.scene().display_lists;
+  const std::uint64_t frames_before_list = server.stats().frames;
+  ASSERT_EQ(client.Push(list).size(), 8u);
+  ASSERT_TRUE(server.WaitForDisplayLists(lists_before + 1, 5.0));
+  const FakeRemoteScene scene = server.scene();
+  EXPECT_EQ(scene.objects.size(), 12u);
+  // Eight commands one per frame would take eight frames; the list runs in the first frame
+  // after it arrived (two allow for a frame under way when it arrived).
+  EXPECT_LE(scene.frame - frames_before_list, 2u);
+}
+
+TEST(RemoteSceneStandIn, ASecondClientGetsNoReplyWhileTheFirstIsConnected) {
+  FakeRemoteSceneServer server;
+  RemoteSceneClient first("127.0.0.1", server.port(), 2.0);
+  RemoteSceneCommands c;
+  c.CreateText();
+  ASSERT_EQ(first.Push(c).size(), 1u);
+  RemoteSceneClient second("127.0.0.1", server.port(), 0.3);  // the kernel accepts it
+  EXPECT_THROW(second.Push(c), IoError);                      // the plugin does not answer
+  EXPECT_EQ(first.Push(c).size(), 1u);                        // the first goes on
+  EXPECT_EQ(server.stats().connections, 1u);
+}
+
+TEST(RemoteSceneStandIn, SayWithoutSpeechIsNeverAnswered) {
+  FakeRemoteSceneServer server(0, {.say_answers = false});
+  RemoteSceneClient client("127.0.0.1", server.port(), 0.3);
+  RemoteSceneCommands c;
+  c.Say("on target");
+  EXPECT_THROW(client.Push(c), IoError);
+  EXPECT_TRUE(server.scene().spoken.empty());
+}
+
+TEST(RemoteSceneStandIn, NothingIsDestroyedOnDisconnect) {
+  FakeRemoteSceneServer server;
+  {
+    RemoteSceneClient client("127.0.0.1", server.port(), 2.0);
+    RemoteSceneCommands c;
+    c.CreateText();
+    c.CreatePrimitive(UnityPrimitive::kSphere);
+    ASSERT_EQ(client.Push(c).size(), 2u);
+  }
+  RemoteSceneClient next("127.0.0.1", server.port(), 2.0);  // accepted once the first is gone
+  RemoteSceneCommands c;
+  c.CreateText();
+  ASSERT_EQ(next.Push(c).size(), 1u);
+  EXPECT_EQ(server.scene().objects.size(), 3u);  // the first client's holograms stay
+}
+
 }  // namespace
 }  // namespace tofnav
