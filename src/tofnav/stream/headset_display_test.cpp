@@ -276,3 +276,28 @@ TEST(HeadsetDisplay, ConnectShowsTheWholeFirstSceneInOnePluginFrame) {
 
 }  // namespace
 }  // namespace tofnav
+
+namespace tofnav {
+namespace {
+
+// Issue 37: the panel carries a tick that changes at >= 2 Hz while fresh poses are shown and
+// stops with the updates, so that a frozen scene is seen to be frozen.
+TEST(HeadsetDisplay, ThePanelTicksWhileLiveAndStopsWithTheUpdates) {
+  FakeRemoteSceneServer server;
+  HeadsetDisplay display(Plan(), Options(server));
+  std::vector<std::string> texts;
+  for (int k = 0; k < 45; ++k) {  // one second at 45 Hz
+    NavigationState s = Tracked(WorldFromImage(0.0, 0.0));
+    s.timestamp_s = 10.0 + k / 45.0;
+    display.Update(s);
+    ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+    texts.push_back(Slot(server.scene(), TextPanelSlot(2)).text);
+  }
+  std::size_t changes = 0;
+  for (std::size_t k = 1; k < texts.size(); ++k) changes += texts[k] != texts[k - 1] ? 1 : 0;
+  EXPECT_GE(changes, 3u);  // four quarter seconds in one second: >= 2 Hz
+  EXPECT_NE(texts.back().find("live 10.75 s"), std::string::npos) << texts.back();
+}
+
+}  // namespace
+}  // namespace tofnav
