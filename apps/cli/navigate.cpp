@@ -144,6 +144,10 @@ int RunNavigate(int argc, char** argv) {
   navigator_options.check_pose_jumps = !no_pose_check;
   HeadsetDisplayOptions headset;
   if (!hololens.empty()) std::tie(headset.host, headset.port) = ParseRemoteSceneEndpoint(hololens);
+  // The headset's one-time notices (no speech, another client): one line each, as they happen.
+  headset.on_notice = [](const std::string& line) {
+    std::cerr << "tofnav navigate: headset: " << line << "\n";
+  };
 
   NavigationCase c;
   c.reference = ReadToolJson(tool_path);
@@ -297,6 +301,8 @@ int RunNavigate(int argc, char** argv) {
                            {"dropped", h.dropped},
                            {"disconnects", h.disconnects},
                            {"connect_failures", h.connect_failures},
+                           {"speech_available", h.speech_available},
+                           {"notices", h.notices},
                            {"last_error", h.last_error}};
   }
   if (json) {

@@ -92,7 +92,7 @@ void FakeRemoteSceneServer::Commit(bool end_of_display_list) {
   std::function<void(const FakeRemoteScene&)> callback;
   {
     const std::lock_guard lock(mutex_);
-    working_.frame = frame_;
+    if (end_of_display_list) working_.frame = frame_;
     committed_ = working_;
     callback = on_display_list_;
   }

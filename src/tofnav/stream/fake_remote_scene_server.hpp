@@ -35,7 +35,7 @@ struct FakeRemoteScene {
   std::vector<std::uint32_t> created;                // every key handed out, in order
   std::vector<std::string> spoken;
   std::uint64_t display_lists = 0;
-  std::uint64_t frame = 0;  // the plugin frame that committed this scene (frame mode)
+  std::uint64_t frame = 0;  // the plugin frame that ran the last display list (frame mode)
 };
 
 struct FakeRemoteSceneStats {

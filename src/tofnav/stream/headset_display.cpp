@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/io/io_error.hpp"
@@ -182,19 +183,26 @@ void HeadsetDisplay::Handle(Post post) {
       AppendChanges(c, keys_[s], shown_[s], post.scene.holograms[s], next[s]);
     }
   }
-  for (const std::string& words : post.speech) c.Say(words);
+  // Words wait for the speech probe after a first connect: a `say` the app cannot answer would
+  // leave the whole display list unanswered.
+  const bool speak_now = speech_probed_ && !speech_off_;
+  if (speak_now) {
+    for (const std::string& words : post.speech) c.Say(words);
+  }
   c.EndDisplayList();
   if (!connecting && c.count() == 2) {
     const std::lock_guard lock(mutex_);
     ++stats_.unchanged;
     return;
   }
+  bool answered = false;
   try {
     if (connecting) {
       client_ =
           std::make_unique<RemoteSceneClient>(options_.host, options_.port, options_.io_timeout_s);
     }
     const std::vector<std::uint32_t> results = client_->Push(c);
+    answered = true;
     for (std::size_t i = 0; i < results.size(); ++i) {
       if (Keyed(c.ids()[i]) && results[i] == 0) {
         throw IoError(client_->endpoint(), std::nullopt,
@@ -211,8 +219,20 @@ void HeadsetDisplay::Handle(Post post) {
     }
   } catch (const std::exception& e) {
     if (connecting) {
+      // Connected, then no answer: the plugin serves one client at a time.
+      const bool unanswered = client_ != nullptr && !answered;
       client_.reset();
       keys_.clear();
+      if (unanswered && !second_client_noticed_) {
+        second_client_noticed_ = true;
+        char line[256];
+        std::snprintf(line, sizeof line,
+                      "the headset accepted the connection but answered nothing within %g s: "
+                      "another client (a second tofnav, hl2ss's viewer) holds its remote scene; "
+                      "retrying every %g s",
+                      options_.io_timeout_s, options_.reconnect_interval_s);
+        Notice(line);
+      }
       const std::lock_guard lock(mutex_);
       ++stats_.connect_failures;
       ++stats_.dropped;
@@ -225,15 +245,56 @@ void HeadsetDisplay::Handle(Post post) {
     return;
   }
   shown_ = std::move(next);
-  const std::lock_guard lock(mutex_);
-  if (connecting) {
-    ++stats_.connections;
-    stats_.connected = true;
+  {
+    const std::lock_guard lock(mutex_);
+    if (connecting) {
+      ++stats_.connections;
+      stats_.connected = true;
+    }
+    if (post.scene.shown) {
+      stats_.max_shown_pose_age_s = std::max(stats_.max_shown_pose_age_s, age_s);
+    }
+    ++stats_.display_lists;
+    stats_.commands += c.count();
+    stats_.spoken += speak_now ? post.speech.size() : 0;
   }
-  if (post.scene.shown) stats_.max_shown_pose_age_s = std::max(stats_.max_shown_pose_age_s, age_s);
-  ++stats_.display_lists;
-  stats_.commands += c.count();
-  stats_.spoken += post.speech.size();
+  if (connecting && !speech_probed_)
+    ProbeSpeech(speak_now ? std::vector<std::string>{} : post.speech);
+}
+
+void HeadsetDisplay::ProbeSpeech(const std::vector<std::string>& held) {
+  speech_probed_ = true;
+  RemoteSceneCommands probe;
+  probe.Say("");
+  try {
+    client_->Push(probe);
+    if (!held.empty()) {
+      RemoteSceneCommands words;
+      for (const std::string& w : held) words.Say(w);
+      client_->Push(words);
+      const std::lock_guard lock(mutex_);
+      stats_.spoken += held.size();
+    }
+  } catch (const IoError& e) {
+    speech_off_ = true;
+    Disconnect(e.what());
+    next_connect_at_.reset();  // reconnect with the next update, without speech
+    {
+      const std::lock_guard lock(mutex_);
+      stats_.speech_available = false;
+    }
+    Notice(
+        "the headset app does not answer 'say' (no text-to-speech component): speech is off, "
+        "the panel's text only");
+  }
+}
+
+void HeadsetDisplay::Notice(const std::string& what) {
+  {
+    const std::lock_guard lock(mutex_);
+    stats_.notices.push_back(what);
+  }
+  if (options_.on_notice) options_.on_notice(what);
 }
 
 void HeadsetDisplay::AppendChanges(RemoteSceneCommands& c, std::uint32_t key, const Hologram& have,

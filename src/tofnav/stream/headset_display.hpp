@@ -6,6 +6,7 @@
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -30,6 +31,9 @@ struct HeadsetDisplayOptions {
   /// No Update() for this long [s] (the navigation loop stalled): the holograms hide, so the
   /// wearer never sees a pose older than this.
   double expire_after_s = 0.1;
+  /// Called once per notice, on the sender thread: the headset cannot speak, or another client
+  /// holds the remote scene (one line each, for the user; docs/navigation.md 6.4).
+  std::function<void(const std::string&)> on_notice;
   void Check() const;  // throws PreconditionError naming the bad field
 };
 
@@ -49,7 +53,9 @@ struct HeadsetDisplayStats {
   std::uint64_t disconnects = 0;  // a push or its results failed or timed out
   std::uint64_t spoken = 0;
   bool connected = false;
+  bool speech_available = true;  // false once the speech probe went unanswered
   std::string last_error;
+  std::vector<std::string> notices;  // each said once (on_notice)
 };
 
 /// Shows the plan and the instrument on the headset. Update() composes the frame's scene and
@@ -89,6 +95,11 @@ class HeadsetDisplay {
   void AppendChanges(RemoteSceneCommands& c, std::uint32_t key, const Hologram& have,
                      const Hologram& want, Hologram& next) const;
   void Disconnect(const std::string& error);
+  /// Says `what` once through on_notice and records it.
+  void Notice(const std::string& what);
+  /// After the first connect: one empty `say`, then the words `held` back for it; unanswered,
+  /// speech is off (and the connection, which the plugin no longer answers, is made again).
+  void ProbeSpeech(const std::vector<std::string>& held);
   void RemoveHolograms();
   void SpeakOnChange(const HeadsetScene& scene, const NavigationState& state,
                      std::vector<std::string>& speech);
@@ -97,6 +108,9 @@ class HeadsetDisplay {
   HeadsetDisplayOptions options_;
   // Navigation thread only.
   bool was_shown_ = false;
+  bool speech_probed_ = false;  // sender thread
+  bool speech_off_ = false;
+  bool second_client_noticed_ = false;
   GuidanceLevel last_level_ = GuidanceLevel::kNoGuidance;
   std::optional<Clock::time_point> said_lost_at_, said_on_target_at_;
   // Shared, guarded by mutex_.

@@ -4,8 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <mutex>
 #include <numbers>
 #include <random>
+#include <thread>
 
 #include "tofnav/pipeline/guidance.hpp"
 #include "tofnav/stream/fake_remote_scene_server.hpp"
@@ -63,6 +66,15 @@ NavigationState Lost(double age_s) {
 const FakeSceneObject& Slot(const FakeRemoteScene& scene, std::size_t slot) {
   const std::size_t slots = HeadsetSlotCount(Plan().size());
   return scene.objects.at(scene.created[scene.created.size() - slots + slot]);
+}
+
+// What was spoken, without the empty `say` that probes the app's speech at each connect.
+std::vector<std::string> Words(const FakeRemoteScene& scene) {
+  std::vector<std::string> words;
+  for (const std::string& w : scene.spoken) {
+    if (!w.empty()) words.push_back(w);
+  }
+  return words;
 }
 
 HeadsetDisplayOptions Options(const FakeRemoteSceneServer& server) {
@@ -137,9 +149,9 @@ TEST(HeadsetDisplay, ColoursTextAndSpeechFollowTheInstrument) {
   EXPECT_GT(tip.colour.g, 0.8f);  // green: on the line, along it
   EXPECT_NE(Slot(scene, TextPanelSlot(2)).text.find("tip-entry 10.0 mm"), std::string::npos);
   EXPECT_LT(Slot(scene, 3).colour.a, 0.5f);  // the other trajectory, dimmed
-  EXPECT_EQ(scene.spoken, (std::vector<std::string>{"on target"}));
+  EXPECT_EQ(Words(scene), (std::vector<std::string>{"on target"}));
   scene = show(Tracked(pose, Eigen::Vector3d::Zero()));  // still on target: not said again
-  EXPECT_EQ(scene.spoken.size(), 1u);
+  EXPECT_EQ(Words(scene).size(), 1u);
   const Eigen::Vector3d u =
       (pose.rotation * (Plan()[0].target_lps_mm - Plan()[0].entry_lps_mm)).normalized();
   scene = show(Tracked(pose, 3.0 * u.unitOrthogonal()));  // 3 mm off the line: amber
@@ -150,7 +162,7 @@ TEST(HeadsetDisplay, ColoursTextAndSpeechFollowTheInstrument) {
   EXPECT_LT(Slot(scene, InstrumentTipSlot(2)).colour.g, 0.8f);
   EXPECT_NE(Slot(scene, TextPanelSlot(2)).text.find("angle 4.0 deg"), std::string::npos);
   scene = show(Tracked(pose, Eigen::Vector3d::Zero()));
-  EXPECT_EQ(scene.spoken.size(), 2u);  // back on target
+  EXPECT_EQ(Words(scene).size(), 2u);  // back on target
   scene = show(Tracked(pose));         // instrument gone: grey, hidden axis
   EXPECT_FALSE(Slot(scene, InstrumentTipSlot(2)).active);
   EXPECT_NEAR(Slot(scene, 2).colour.r, 0.6f, 1e-6f);
@@ -176,7 +188,7 @@ TEST(HeadsetDisplay, HologramsHideWhenTheReferenceIsLostAndReturnOnlyFresh) {
   EXPECT_EQ(active_count(), 0);
   display.Update(Lost(0.2));
   EXPECT_EQ(active_count(), 0);
-  EXPECT_EQ(server.scene().spoken, (std::vector<std::string>{"reference lost"}));
+  EXPECT_EQ(Words(server.scene()), (std::vector<std::string>{"reference lost"}));
   display.Update(Tracked(WorldFromImage(0.0, 0.0)));
   EXPECT_EQ(active_count(), 7);
 }
@@ -297,6 +309,76 @@ TEST(HeadsetDisplay, ThePanelTicksWhileLiveAndStopsWithTheUpdates) {
   for (std::size_t k = 1; k < texts.size(); ++k) changes += texts[k] != texts[k - 1] ? 1 : 0;
   EXPECT_GE(changes, 3u);  // four quarter seconds in one second: >= 2 Hz
   EXPECT_NE(texts.back().find("live 10.75 s"), std::string::npos) << texts.back();
+}
+
+}  // namespace
+}  // namespace tofnav
+
+namespace tofnav {
+namespace {
+
+struct Notices {
+  std::mutex mutex;
+  std::vector<std::string> lines;
+  void Add(const std::string& line) {
+    const std::lock_guard lock(mutex);
+    lines.push_back(line);
+  }
+  std::vector<std::string> Get() {
+    const std::lock_guard lock(mutex);
+    return lines;
+  }
+};
+
+// Issue 37: an app without text-to-speech never answers `say`; probed once at connect, speech
+// goes off with one line and the holograms go on.
+TEST(HeadsetDisplay, AnAppWithoutSpeechGetsTextOnlyAndOneLine) {
+  FakeRemoteSceneServer server(0, {.say_answers = false});
+  Notices notices;
+  HeadsetDisplayOptions options = Options(server);
+  options.io_timeout_s = 0.3;
+  options.on_notice = [&](const std::string& line) { notices.Add(line); };
+  HeadsetDisplay display(Plan(), options);
+  for (int k = 0; k < 4; ++k) {  // connect + probe, then reconnect without speech
+    display.Update(Tracked(WorldFromImage(0.1 * k, 0.0), Eigen::Vector3d(0.5, 0.0, 0.0)));
+    ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+  }
+  EXPECT_EQ(notices.Get(),
+            (std::vector<std::string>{"the headset app does not answer 'say' (no text-to-speech "
+                                      "component): speech is off, the panel's text only"}));
+  const HeadsetDisplayStats stats = display.stats();
+  EXPECT_FALSE(stats.speech_available);
+  EXPECT_EQ(stats.connections, 2u);  // the probe's connection is dropped once, not every time
+  EXPECT_TRUE(stats.connected);
+  EXPECT_TRUE(Slot(server.scene(), 2).active);  // the path is shown
+  EXPECT_EQ(stats.spoken, 0u);
+}
+
+// Issue 37: the plugin serves one client; a second one is told so in one line, not silently
+// retried.
+TEST(HeadsetDisplay, ASecondClientIsReportedInOneLine) {
+  FakeRemoteSceneServer server;
+  RemoteSceneClient other("127.0.0.1", server.port(), kWait_s);  // e.g. hl2ss's viewer
+  RemoteSceneCommands c;
+  c.CreateText();
+  ASSERT_EQ(other.Push(c).size(), 1u);
+  Notices notices;
+  HeadsetDisplayOptions options = Options(server);
+  options.io_timeout_s = 0.2;
+  options.on_notice = [&](const std::string& line) { notices.Add(line); };
+  HeadsetDisplay display(Plan(), options);
+  for (int k = 0; k < 5; ++k) {
+    display.Update(Tracked(WorldFromImage(0.0, 0.0)));
+    ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
+    std::this_thread::sleep_for(std::chrono::milliseconds(60));  // past the reconnect interval
+  }
+  EXPECT_EQ(notices.Get(),
+            (std::vector<std::string>{
+                "the headset accepted the connection but answered nothing within 0.2 s: another "
+                "client (a second tofnav, hl2ss's viewer) holds its remote scene; retrying every "
+                "0.05 s"}));
+  EXPECT_GE(display.stats().connect_failures, 2u);
+  EXPECT_FALSE(display.stats().connected);
 }
 
 }  // namespace
