@@ -17,13 +17,13 @@
 #include <thread>
 
 #include "navigation_e2e_case.hpp"
-#include "tofnav/stream/fake_remote_scene_server.hpp"
 #include "tofnav/stream/headset_display.hpp"
 #include "tofnav/stream/hl2ss_client.hpp"
 #include "tofnav/stream/igtl_receiver.hpp"
 #include "tofnav/stream/igtl_server.hpp"
 #include "tofnav/stream/navigation_messages.hpp"
 #include "tofnav/stream/socket.hpp"
+#include "tofnav/stream_testing/fake_remote_scene_server.hpp"
 
 namespace tofnav {
 namespace {

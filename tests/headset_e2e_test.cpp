@@ -13,8 +13,8 @@
 #include "headset_figure.hpp"
 #include "navigation_e2e_case.hpp"
 #include "tofnav/pipeline/guidance.hpp"
-#include "tofnav/stream/fake_remote_scene_server.hpp"
 #include "tofnav/stream/headset_display.hpp"
+#include "tofnav/stream_testing/fake_remote_scene_server.hpp"
 
 namespace tofnav {
 namespace {

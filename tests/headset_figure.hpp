@@ -11,7 +11,7 @@
 #include "tofnav/report/mesh_render.hpp"
 #include "tofnav/report/png.hpp"
 #include "tofnav/sim/shapes.hpp"
-#include "tofnav/stream/fake_remote_scene_server.hpp"
+#include "tofnav/stream_testing/fake_remote_scene_server.hpp"
 
 namespace tofnav::testing {
 

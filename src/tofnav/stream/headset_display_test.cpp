@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "tofnav/pipeline/guidance.hpp"
-#include "tofnav/stream/fake_remote_scene_server.hpp"
+#include "tofnav/stream_testing/fake_remote_scene_server.hpp"
 
 namespace tofnav {
 namespace {

@@ -6,8 +6,8 @@
 #include <random>
 
 #include "tofnav/io/io_error.hpp"
-#include "tofnav/stream/fake_remote_scene_server.hpp"
 #include "tofnav/stream/remote_scene_client.hpp"
+#include "tofnav/stream_testing/fake_remote_scene_server.hpp"
 
 namespace tofnav {
 namespace {

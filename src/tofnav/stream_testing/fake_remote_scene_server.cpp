@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // FakeRemoteSceneServer: poll() over the listener, an eventfd and one client; commands are
 // applied like the Unity plugin applies them (docs/navigation.md, "Headset display").
-#include "tofnav/stream/fake_remote_scene_server.hpp"
+#include "tofnav/stream_testing/fake_remote_scene_server.hpp"
 
 #include <poll.h>
 #include <sys/eventfd.h>
