@@ -259,12 +259,6 @@ TEST(HeadsetDisplay, AbsentHeadsetNeverBlocksUpdates) {
   EXPECT_EQ(display.stats().updates, 100u);
 }
 
-}  // namespace
-}  // namespace tofnav
-
-namespace tofnav {
-namespace {
-
 // The real plugin runs one command per Unity frame outside a display list: a connect of
 // 3n + 5 separate commands took 0.53 s for nine trajectories (issue 37). Connecting now sends
 // the whole first scene in one display list, so the wearer sees it complete in one frame.
@@ -286,12 +280,6 @@ TEST(HeadsetDisplay, ConnectShowsTheWholeFirstSceneInOnePluginFrame) {
   EXPECT_EQ(display.stats().connections, 1u);
 }
 
-}  // namespace
-}  // namespace tofnav
-
-namespace tofnav {
-namespace {
-
 // Issue 37: the panel carries a tick that changes at >= 2 Hz while fresh poses are shown and
 // stops with the updates, so that a frozen scene is seen to be frozen.
 TEST(HeadsetDisplay, ThePanelTicksWhileLiveAndStopsWithTheUpdates) {
@@ -310,12 +298,6 @@ TEST(HeadsetDisplay, ThePanelTicksWhileLiveAndStopsWithTheUpdates) {
   EXPECT_GE(changes, 3u);  // four quarter seconds in one second: >= 2 Hz
   EXPECT_NE(texts.back().find("live 10.75 s"), std::string::npos) << texts.back();
 }
-
-}  // namespace
-}  // namespace tofnav
-
-namespace tofnav {
-namespace {
 
 struct Notices {
   std::mutex mutex;
