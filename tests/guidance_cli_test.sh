@@ -11,22 +11,7 @@ trap 'rm -rf "$scratch"' EXIT
 "$tofnav" simulate evd-usecase --frames 90 --out "$scratch/case" -q >/dev/null
 /usr/bin/python3 "$tests/navigation_case_from_truth.py" "$scratch/case" >/dev/null
 # f_rf as the set-up phase would measure it: the simulator's retro curve plus its wiggle.
-/usr/bin/python3 - "$scratch/case/truth.json" "$scratch/frf.json" <<'PY'
-import json, math, sys
-t = json.load(open(sys.argv[1])); s = t['render']['sensor']
-a = next(m for m in t['materials'] if m['retro_reflective'])['retro_curve_amplitude_mm']
-def wiggle(d):
-    return s['wiggle_amplitude_mm'] * math.sin(2 * math.pi * d / s['wiggle_period_mm'] + s['wiggle_phase_rad'])
-xs, ys = [], []
-for d in [150.0 + 5.0 * i for i in range(171)]:
-    observed = d + a * (d - 300.0) / 400.0
-    total = observed + wiggle(observed) - d
-    xs.append(d + total)
-    ys.append(total)
-json.dump({"format": "tofnav-marker-range-error", "version": 1, "range_unit": "mm",
-           "smoothing_p": 1.0, "knots_mm": xs, "bias_mm": ys,
-           "second_derivative_per_mm": [0.0] * len(xs)}, open(sys.argv[2], 'w'))
-PY
+/usr/bin/python3 "$tests/true_marker_range.py" "$scratch/case" "$scratch/frf.json"
 "$tofnav" navigate "$scratch/case/rm_depth_ahat.bin" --calibration "$scratch/case/calibration" \
   --tool "$scratch/case/tools/reference.json" --registration "$scratch/case/tool_from_image.json" \
   --plan "$scratch/case/plan.mrk.json" --marker-error "$scratch/frf.json" --no-igtl \

@@ -23,6 +23,7 @@ int RunRegister(int argc, char** argv);
 int RunReport(int argc, char** argv);
 int RunServe(int argc, char** argv);
 int RunTrack(int argc, char** argv);
+int RunVerify(int argc, char** argv);
 int RunToolDefine(int argc, char** argv);
 int RunFitMarkerError(int argc, char** argv);
 

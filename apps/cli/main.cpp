@@ -41,6 +41,8 @@ constexpr Command kCommands[] = {
      tofnav::RunEvaluate},
     {"navigate", "track the headframe, place the plan and stream it to 3D Slicer (OpenIGTLink)",
      tofnav::RunNavigate},
+    {"verify", "check the registration before guidance: touch planned landmarks with the pointer",
+     tofnav::RunVerify},
     {"serve", "serve a recording like the headset (hl2ss), with faults: rehearse a live session",
      tofnav::RunServe},
     {"report", "the evaluation report (self-contained HTML) of a tofnav demo directory",

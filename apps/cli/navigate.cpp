@@ -14,12 +14,13 @@
 #include "commands.hpp"
 #include "config_json.hpp"
 #include "navigate_live.hpp"
+#include "navigate_support.hpp"
 #include "profile_option.hpp"
 #include "stop_signal.hpp"
+#include "supervisor.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/casefile/markups_read.hpp"
 #include "tofnav/casefile/tool_json.hpp"
-#include "tofnav/casefile/transform_io.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/pipeline/navigation_csv.hpp"
@@ -30,78 +31,31 @@
 #include "tofnav/stream/live_link.hpp"
 #include "tofnav/stream/navigation_messages.hpp"
 #include "tofnav/stream/navigation_session.hpp"
+#include "tofnav/stream/verify_messages.hpp"
 
 namespace tofnav {
 namespace {
 
-/// tool_from_image from a registration file; a file naming image_from_tool is inverted.
-Rigid3d ReadToolFromImage(const std::filesystem::path& path) {
-  const NamedTransform t = ReadTransform(path);
-  if (t.source_frame == "tool" && t.target_frame == "image") return t.target_from_source.Inverse();
-  if (!t.source_frame.empty() && t.source_frame != "image") {
-    throw std::runtime_error(path.string() + ": expected tool_from_image, found " + t.target_frame +
-                             "_from_" + t.source_frame);
-  }
-  return t.target_from_source;
-}
-
-}  // namespace
-
-namespace {
-
-// What navigation left out, and why: reference poses that jumped in the world, and per tool the
-// marker observations by how they entered the pose (docs/navigation.md section 1.1).
-nlohmann::ordered_json DroppedJson(const NavigationSessionStats& stats) {
-  nlohmann::ordered_json j{{"reference_pose_jumps", stats.reference_pose_jumps},
-                           {"poses_refused_void", stats.poses_refused_void}};
-  const auto uses = [](const std::map<MarkerUse, std::int64_t>& counts) {
-    nlohmann::ordered_json u = nlohmann::ordered_json::object();
-    for (const auto& [use, n] : counts) u[ToString(use)] = n;
-    return u;
-  };
-  j["reference_markers"] = uses(stats.reference_markers);
-  j["instrument_markers"] = uses(stats.instrument_markers);
-  return j;
-}
-
-void PrintDropped(const NavigationSessionStats& stats) {
-  std::cout << "  reference poses left out as jumps in the world: " << stats.reference_pose_jumps
-            << "\n";
-  if (stats.poses_refused_void > 0) {
-    std::cout << "  candidate poses refused for a marker where the image shows empty space: "
-              << stats.poses_refused_void << "\n";
-  }
-  const auto print = [](const char* tool, const std::map<MarkerUse, std::int64_t>& counts) {
-    std::int64_t not_used = 0;
-    for (const auto& [use, n] : counts) not_used += InPose(use) ? 0 : n;
-    if (counts.empty()) return;
-    std::cout << "  " << tool << " markers not in the pose: " << not_used;
-    for (const auto& [use, n] : counts) {
-      if (!InPose(use) || use == MarkerUse::kUsedDamaged)
-        std::cout << ", " << ToString(use) << " " << n;
-    }
-    std::cout << "\n";
-  };
-  print("reference", stats.reference_markers);
-  print("instrument", stats.instrument_markers);
-}
-
-}  // namespace
-
-int RunNavigate(int argc, char** argv) {
-  CLI::App app{
-      "Intra-operative navigation: track the headframe, place the plan (Eq. 8), stream "
-      "to 3D Slicer over OpenIGTLink",
-      "tofnav navigate"};
+// `tofnav navigate`, or with `verify_only` `tofnav verify`: the landmark check, then exit.
+int RunNavigation(int argc, char** argv, bool verify_only) {
+  CLI::App app{verify_only
+                   ? "Accuracy check before guidance: touch the planned landmarks with the "
+                     "tracked pointer; each landmark's error against the registration"
+                   : "Intra-operative navigation: track the headframe, place the plan (Eq. 8), "
+                     "stream to 3D Slicer over OpenIGTLink",
+               verify_only ? "tofnav verify" : "tofnav navigate"};
   AddConfigOptions(app);
   std::string input;
   std::filesystem::path calibration, tool_path, registration, plan_path, instrument_path, out;
-  std::filesystem::path marker_error_path;
+  std::filesystem::path marker_error_path, landmarks_path;
+  LandmarkCheckOptions check_options;
   std::filesystem::path skin_path, surface_path;
   std::string trajectory, bind = "127.0.0.1", profile = "zdepth+h265", hololens;
   std::optional<std::uint32_t> bitrate_bps;
   int igtl_port = 18944;
   bool realtime = false, loop = false, quiet = false, json = false, no_igtl = false;
+  bool no_supervisor = false;
+  std::size_t inject_abort_after_frames = 0;
   double duration_s = 0.0;
   std::optional<double> sample_offset;
   LiveLinkOptions link;
@@ -112,8 +66,26 @@ int RunNavigate(int argc, char** argv) {
                  "hl2ss calibration folder (live: Mode 2 when absent)");
   app.add_option("--tool", tool_path, "reference tool JSON (headframe)")->required();
   app.add_option("--registration", registration, "tool_from_image (.json, .tfm, .txt)")->required();
-  app.add_option("--plan", plan_path, "planned trajectories (.mrk.json, .fcsv)")->required();
-  app.add_option("--instrument", instrument_path, "tracked instrument JSON with tip_mm");
+  app.add_option("--plan", plan_path, "planned trajectories (.mrk.json, .fcsv)")
+      ->required(!verify_only);
+  if (verify_only) {
+    app.add_option("--pointer", instrument_path, "pivot-calibrated pointer (tool JSON with tip_mm)")
+        ->required();
+    app.add_option("--landmarks", landmarks_path,
+                   "landmarks planned in the image, touched in file order (.mrk.json, .fcsv)")
+        ->required();
+  } else {
+    app.add_option("--instrument", instrument_path, "tracked instrument JSON with tip_mm");
+    app.add_option("--verify", landmarks_path,
+                   "first check the registration: touch these landmarks with the instrument "
+                   "(.mrk.json, .fcsv; docs/navigation.md 7)");
+  }
+  app.add_option("--pass-mm", check_options.pass_mm,
+                 "verify: a landmark passes within this error [mm]");
+  app.add_option("--still-s", check_options.still_time_s,
+                 "verify: the tip resting this long is a touch [s]");
+  app.add_option("--still-radius-mm", check_options.still_radius_mm,
+                 "verify: ... every position this close to their mean [mm]");
   app.add_option("--marker-error", marker_error_path,
                  "f_rf curve (tofnav fit-marker-error) applied to marker ranges (Eq. 2)");
   app.add_option("--trajectory", trajectory, "trajectory the instrument is guided along (name)");
@@ -124,6 +96,10 @@ int RunNavigate(int argc, char** argv) {
   app.add_flag("--no-igtl", no_igtl, "do not start the OpenIGTLink server");
   app.add_option("--hololens", hololens,
                  "show the plan on the headset: hl2ss remote Unity scene HOST[:PORT] (3816)");
+  app.add_flag("--no-supervisor", no_supervisor,
+               "with --hololens: run in one process (debuggers); a crash or kill -9 then leaves "
+               "the last holograms on the headset");
+  app.add_option("--inject-abort-after-frames", inject_abort_after_frames)->group("");
   app.add_option("--sample-offset", sample_offset, "calibration table sample offset (0 or 0.5)");
   AddProfileOptions(app, profile, bitrate_bps);
   app.add_flag("--realtime", realtime, "replay a recording at its recorded pace");
@@ -148,13 +124,32 @@ int RunNavigate(int argc, char** argv) {
   headset.on_notice = [](const std::string& line) {
     std::cerr << "tofnav navigate: headset: " << line << "\n";
   };
+  // With a headset, the work runs in a child process that this one watches: whatever ends it,
+  // the headset is cleared (docs/navigation.md 6.6). Before any thread starts.
+  std::unique_ptr<SharedHeadsetRecord> left_on_headset;
+  if (!hololens.empty() && !no_supervisor) {
+    left_on_headset = std::make_unique<SharedHeadsetRecord>();
+    SharedHeadsetRecord* record = left_on_headset.get();
+    const std::optional<int> status = RunAsSupervisedWorker(
+        [&](const WorkerEnd& end) { return ClearAfterWorker(end, record->Read(), headset); });
+    if (status) return *status;
+    headset.on_shown = [record](const HeadsetShown& shown) { record->Write(shown); };
+  }
 
   NavigationCase c;
   c.reference = ReadToolJson(tool_path);
   c.tool_from_image = ReadToolFromImage(registration);
-  c.plan = ReadTrajectories(plan_path);
+  if (!plan_path.empty()) c.plan = ReadTrajectories(plan_path);
   if (!instrument_path.empty()) c.instrument = ReadToolJson(instrument_path);
   if (!marker_error_path.empty()) c.marker_range = ReadMarkerRangeJson(marker_error_path).model;
+  std::optional<LandmarkCheck> check;  // docs/navigation.md 7
+  if (!landmarks_path.empty()) {
+    if (!c.instrument || !c.instrument->tip_in_tool) {
+      throw std::runtime_error("--verify needs --instrument with a pivot-calibrated tip (tip_mm)");
+    }
+    check.emplace(ReadLandmarks(landmarks_path), c.tool_from_image, *c.instrument->tip_in_tool,
+                  check_options);
+  }
 
   std::unique_ptr<FrameSource> source;
   std::optional<AhatCalibration> camera_calibration;
@@ -192,9 +187,22 @@ int RunNavigate(int argc, char** argv) {
     if (!skin_path.empty()) skin = ReadMesh(skin_path);
     if (!surface_path.empty()) surface = ReadMesh(surface_path);
     SetNavigationGreetings(*server, navigator, skin, surface);
+    if (check) {
+      const NamedMessage landmarks = EncodeLandmarksGreeting(check->landmarks());
+      server->SetGreeting(landmarks.device_name, landmarks.bytes);
+    }
   }
   std::unique_ptr<HeadsetDisplay> display;  // docs/navigation.md, "Headset display"
   if (!hololens.empty()) display = std::make_unique<HeadsetDisplay>(c.plan, headset);
+  // The check's line leads the panel (above the first landmark when there is no plan) and goes
+  // to Slicer; each touch is a line on stdout.
+  const auto publish_check = [&](double timestamp_s) {
+    if (display) display->SetPanelNote({check->StatusLine(), check->landmarks().front().in_image});
+    if (server) {
+      for (NamedMessage& m : EncodeLandmarkCheck(*check, timestamp_s)) server->Publish(m.bytes);
+    }
+  };
+  if (check) publish_check(0.0);
   std::optional<AtomicFileWriter> csv;
   if (!out.empty()) {
     csv.emplace(out);
@@ -235,6 +243,15 @@ int RunNavigate(int argc, char** argv) {
   bool timed_out = false;
   const auto on_frame = [&](const NavigationState& s) {
     on_state(s);
+    if (check && !check->done()) {
+      if (const std::optional<LandmarkTouch> touch = check->Add(s)) {
+        if (!json) std::cout << TouchLine(*check, *touch) << std::endl;
+        publish_check(s.timestamp_s);
+        if (check->done() && !json) std::cout << check->StatusLine() << std::endl;
+        if (check->done() && verify_only) stop = true;
+      }
+    }
+    if (inject_abort_after_frames > 0 && frames_seen >= inject_abort_after_frames) InjectedAbort();
     const std::chrono::duration<double> elapsed = std::chrono::steady_clock::now() - started;
     if (duration_s > 0.0 && elapsed.count() > duration_s) stop = timed_out = true;
   };
@@ -265,7 +282,7 @@ int RunNavigate(int argc, char** argv) {
   if (status_line) std::fprintf(stderr, "\n");
   if (display) display->Close();  // removes the holograms
   if (csv) csv->Commit();
-  const std::string reason = signals.signalled() ? "stopped by the user (Ctrl-C)"
+  const std::string reason = signals.signalled() ? signals.Reason()
                              : timed_out         ? "stopped after --duration-s"
                              : live != nullptr   ? live->failure()
                                                  : "";
@@ -294,6 +311,7 @@ int RunNavigate(int argc, char** argv) {
                        {"crc_errors", s.crc_errors}};
   }
   if (live != nullptr) summary["link"] = LinkSummary(live->stats());
+  if (check) summary["verify"] = LandmarkCheckJson(*check);
   if (display) {
     const HeadsetDisplayStats h = display->stats();
     summary["hololens"] = {{"connections", h.connections},
@@ -318,9 +336,21 @@ int RunNavigate(int argc, char** argv) {
                    "without a hand in view)\n";
     }
   }
-  return live != nullptr && !live->failure().empty() && !signals.signalled() && !timed_out
-             ? kExitGaveUp
-             : EXIT_SUCCESS;
+  if (check && !check->done() && !quiet) {
+    std::cerr << "tofnav " << (verify_only ? "verify" : "navigate") << ": " << check->StatusLine()
+              << ": the check ended with " << check->touches().size() << " of "
+              << check->landmarks().size() << " landmarks touched\n";
+  }
+  if (live != nullptr && !live->failure().empty() && !signals.signalled() && !timed_out) {
+    return kExitGaveUp;
+  }
+  return verify_only && !check->passed() ? kExitVerifyFailed : EXIT_SUCCESS;
 }
+
+}  // namespace
+
+int RunNavigate(int argc, char** argv) { return RunNavigation(argc, argv, false); }
+
+int RunVerify(int argc, char** argv) { return RunNavigation(argc, argv, true); }
 
 }  // namespace tofnav

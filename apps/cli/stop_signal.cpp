@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// Signal handlers may only touch lock-free atomics with static storage: hence the two flags.
+// Signal handlers may only touch lock-free atomics with static storage: hence the two globals.
 #include "stop_signal.hpp"
 
 #include <csignal>
@@ -8,12 +8,12 @@ namespace tofnav {
 namespace {
 
 std::atomic<bool> stop_requested{false};
-std::atomic<bool> stop_signalled{false};
+std::atomic<int> stop_signal_number{0};  // 0: no signal
 struct sigaction previous_int {};
 struct sigaction previous_term {};
 
-void OnSignal(int /*signal*/) {
-  stop_signalled = true;
+void OnSignal(int signal) {
+  stop_signal_number = signal;
   stop_requested = true;
 }
 
@@ -21,7 +21,7 @@ void OnSignal(int /*signal*/) {
 
 StopOnSignal::StopOnSignal() {
   stop_requested = false;
-  stop_signalled = false;
+  stop_signal_number = 0;
   struct sigaction action {};
   action.sa_handler = OnSignal;
   sigemptyset(&action.sa_mask);
@@ -37,6 +37,12 @@ StopOnSignal::~StopOnSignal() {
 
 std::atomic<bool>& StopOnSignal::stop() { return stop_requested; }
 
-bool StopOnSignal::signalled() const { return stop_signalled; }
+bool StopOnSignal::signalled() const { return stop_signal_number != 0; }
+
+std::string StopOnSignal::Reason() const {
+  return stop_signal_number == SIGINT    ? "stopped by the user (Ctrl-C)"
+         : stop_signal_number == SIGTERM ? "stopped by SIGTERM"
+                                         : "";
+}
 
 }  // namespace tofnav

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <atomic>
+#include <string>
 
 namespace tofnav {
 
@@ -19,6 +20,8 @@ class StopOnSignal {
   std::atomic<bool>& stop();
   /// True when a signal, not the command, asked to stop.
   bool signalled() const;
+  /// "stopped by the user (Ctrl-C)" or "stopped by SIGTERM"; empty when no signal came.
+  std::string Reason() const;
 };
 
 }  // namespace tofnav

@@ -147,10 +147,19 @@ std::vector<Trajectory> DecodeTrajectoryFcsv(std::span<const std::uint8_t> bytes
   return plan;
 }
 
+std::vector<MarkupPoint> DecodeLabelledMarkupPointsFcsv(std::span<const std::uint8_t> bytes,
+                                                        const std::filesystem::path& source) {
+  std::vector<MarkupPoint> points;
+  for (const Row& row : DecodeRows(bytes, source)) points.push_back({row.label, row.position});
+  return points;
+}
+
 std::vector<Eigen::Vector3d> DecodeMarkupPointsFcsv(std::span<const std::uint8_t> bytes,
                                                     const std::filesystem::path& source) {
   std::vector<Eigen::Vector3d> points;
-  for (const Row& row : DecodeRows(bytes, source)) points.push_back(row.position);
+  for (const MarkupPoint& p : DecodeLabelledMarkupPointsFcsv(bytes, source)) {
+    points.push_back(p.lps_mm);
+  }
   return points;
 }
 

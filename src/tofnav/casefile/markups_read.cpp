@@ -168,13 +168,23 @@ std::vector<Trajectory> DecodeTrajectoryMarkups(std::span<const std::uint8_t> by
   return plan;
 }
 
+std::vector<MarkupPoint> DecodeLabelledMarkupPointsJson(std::span<const std::uint8_t> bytes,
+                                                        const std::filesystem::path& source) {
+  std::vector<MarkupPoint> points;
+  ForEachMarkup(bytes, source, [&](const MarkupReader& markup) {
+    for (const auto& [label, position] : markup.DefinedPoints())
+      points.push_back({label, position});
+  });
+  if (points.empty()) throw IoError(source, std::nullopt, "no defined control point");
+  return points;
+}
+
 std::vector<Eigen::Vector3d> DecodeMarkupPointsJson(std::span<const std::uint8_t> bytes,
                                                     const std::filesystem::path& source) {
   std::vector<Eigen::Vector3d> points;
-  ForEachMarkup(bytes, source, [&](const MarkupReader& markup) {
-    for (const auto& [label, position] : markup.DefinedPoints()) points.push_back(position);
-  });
-  if (points.empty()) throw IoError(source, std::nullopt, "no defined control point");
+  for (const MarkupPoint& p : DecodeLabelledMarkupPointsJson(bytes, source)) {
+    points.push_back(p.lps_mm);
+  }
   return points;
 }
 
@@ -199,6 +209,12 @@ std::vector<Trajectory> ReadTrajectories(const std::filesystem::path& path) {
 std::vector<Eigen::Vector3d> ReadMarkupPoints(const std::filesystem::path& path) {
   const auto [bytes, json] = ReadMarkupsFile(path);
   return json ? DecodeMarkupPointsJson(bytes, path) : DecodeMarkupPointsFcsv(bytes, path);
+}
+
+std::vector<MarkupPoint> ReadLabelledMarkupPoints(const std::filesystem::path& path) {
+  const auto [bytes, json] = ReadMarkupsFile(path);
+  return json ? DecodeLabelledMarkupPointsJson(bytes, path)
+              : DecodeLabelledMarkupPointsFcsv(bytes, path);
 }
 
 }  // namespace tofnav

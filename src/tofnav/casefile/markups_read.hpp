@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <span>
+#include <string>
 #include <vector>
 
 #include "tofnav/imaging/trajectory.hpp"
@@ -31,8 +32,21 @@ std::vector<Trajectory> DecodeTrajectoryMarkups(std::span<const std::uint8_t> by
 std::vector<Trajectory> DecodeTrajectoryFcsv(std::span<const std::uint8_t> bytes,
                                              const std::filesystem::path& source = "<fcsv>");
 
+/// A markups control point with its label (JSON "label", .fcsv label column), LPS [mm].
+struct MarkupPoint {
+  std::string label;
+  Eigen::Vector3d lps_mm = Eigen::Vector3d::Zero();
+};
+
 /// Every defined control point of every markup (JSON), or every row (.fcsv), in file order, in
-/// LPS mm by the same rules: fiducials for paired-point registration. IoError when there is none.
+/// LPS mm by the same rules: fiducials for paired-point registration, landmarks for tofnav
+/// verify. IoError when there is none.
+std::vector<MarkupPoint> ReadLabelledMarkupPoints(const std::filesystem::path& path);
+std::vector<MarkupPoint> DecodeLabelledMarkupPointsJson(
+    std::span<const std::uint8_t> bytes, const std::filesystem::path& source = "<json>");
+std::vector<MarkupPoint> DecodeLabelledMarkupPointsFcsv(
+    std::span<const std::uint8_t> bytes, const std::filesystem::path& source = "<fcsv>");
+/// The same without labels.
 std::vector<Eigen::Vector3d> ReadMarkupPoints(const std::filesystem::path& path);
 std::vector<Eigen::Vector3d> DecodeMarkupPointsJson(std::span<const std::uint8_t> bytes,
                                                     const std::filesystem::path& source = "<json>");

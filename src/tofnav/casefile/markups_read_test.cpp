@@ -131,6 +131,12 @@ TEST(MarkupPoints, EveryDefinedPointInLps) {
             (std::vector<Eigen::Vector3d>{{-1, -2, 3}, {4, 5, 6}}));
   EXPECT_EQ(DecodeMarkupPointsFcsv(Bytes("# CoordinateSystem = LPS\na,1,2,3\nb,4,5,6\nc,7,8,9\n")),
             (std::vector<Eigen::Vector3d>{{1, 2, 3}, {4, 5, 6}, {7, 8, 9}}));
+  const std::vector<MarkupPoint> labelled =
+      DecodeLabelledMarkupPointsFcsv(Bytes("# CoordinateSystem = LPS\n"
+                                           "1,1,2,3,0,0,0,1,1,1,0,a\n2,4,5,6,0,0,0,1,1,1,0,b\n"));
+  ASSERT_EQ(labelled.size(), 2u);
+  EXPECT_EQ(labelled[1].label, "b");
+  EXPECT_EQ(labelled[1].lps_mm, Eigen::Vector3d(4, 5, 6));
   EXPECT_THAT(ErrorOf([] { DecodeMarkupPointsJson(Bytes(R"({"markups":[]})")); }),
               ::testing::HasSubstr("no defined control point"));
 }

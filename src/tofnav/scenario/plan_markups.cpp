@@ -39,6 +39,23 @@ std::string EncodeTrajectoryMarkups(const std::vector<sim::Trajectory>& plan) {
   return OrderedJson{{"@schema", kMarkupsSchema}, {"markups", markups}}.dump(2) + "\n";
 }
 
+std::string EncodeLandmarkMarkups(const std::vector<sim::PlannedLandmark>& landmarks) {
+  OrderedJson points = OrderedJson::array();
+  for (std::size_t i = 0; i < landmarks.size(); ++i) {
+    points.push_back(
+        ControlPoint(static_cast<int>(i + 1), landmarks[i].name.c_str(), landmarks[i].in_image));
+  }
+  const OrderedJson markup{
+      {"type", "Fiducial"},      {"name", "landmarks"}, {"coordinateSystem", "LPS"},
+      {"coordinateUnits", "mm"}, {"locked", true},      {"controlPoints", points}};
+  return OrderedJson{{"@schema", kMarkupsSchema}, {"markups", {markup}}}.dump(2) + "\n";
+}
+
+void WriteLandmarkMarkups(const std::filesystem::path& path,
+                          const std::vector<sim::PlannedLandmark>& landmarks) {
+  WriteFileAtomically(path, EncodeLandmarkMarkups(landmarks));
+}
+
 void WriteTrajectoryMarkups(const std::filesystem::path& path,
                             const std::vector<sim::Trajectory>& plan) {
   WriteFileAtomically(path, EncodeTrajectoryMarkups(plan));

@@ -7,12 +7,19 @@
 #include <vector>
 
 #include "tofnav/sim/evd_plan.hpp"
+#include "tofnav/sim/scenario.hpp"
 
 namespace tofnav {
 
 /// One "Line" markup per trajectory in one file, coordinateSystem LPS, mm: control point 0 is
 /// the entry (label "entry"), 1 the target ("target"); the markup's "name" is the trajectory's.
 std::string EncodeTrajectoryMarkups(const std::vector<sim::Trajectory>& plan);
+
+/// One "Fiducial" markup "landmarks", coordinateSystem LPS, mm: one control point per landmark,
+/// labelled with its name (what tofnav verify reads).
+std::string EncodeLandmarkMarkups(const std::vector<sim::PlannedLandmark>& landmarks);
+void WriteLandmarkMarkups(const std::filesystem::path& path,
+                          const std::vector<sim::PlannedLandmark>& landmarks);
 
 /// Writes EncodeTrajectoryMarkups atomically.
 void WriteTrajectoryMarkups(const std::filesystem::path& path,

@@ -31,6 +31,7 @@ constexpr const char* kTruthRangeName = "truth_range_f32.bin";
 constexpr const char* kCtName = "ct.nrrd";
 constexpr const char* kSkinName = "skin_truth.ply";
 constexpr const char* kPlanName = "plan.mrk.json";
+constexpr const char* kLandmarksName = "landmarks.mrk.json";
 constexpr const char* kToolsDir = "tools";
 constexpr const char* kMeshesDir = "meshes";
 
@@ -60,6 +61,10 @@ void WritePatientFiles(const sim::Scenario& s, const std::filesystem::path& out_
   files.emplace_back("skin", kSkinName);
   WriteTrajectoryMarkups(out_dir / kPlanName, patient.plan);
   files.emplace_back("plan", kPlanName);
+  if (!patient.landmarks.empty()) {  // what tofnav verify asks the user to touch
+    WriteLandmarkMarkups(out_dir / kLandmarksName, patient.landmarks);
+    files.emplace_back("landmarks", kLandmarksName);
+  }
 }
 
 // meshes/<object>.ply: every scene object's mesh in its own frame (the mesh truth.json's
@@ -113,6 +118,7 @@ void WriteToolFiles(const sim::Scenario& s, const std::filesystem::path& out_dir
                                                                           : MarkerType::kSphere;
     tool.marker_diameter_mm = t.markers.front().diameter_mm;
     for (const sim::Marker& m : t.markers) tool.markers_in_tool.push_back(m.centre_in_tool);
+    tool.tip_in_tool = t.tip_in_tool;  // a pointer's true tip (what pivot calibration finds)
     try {
       tool.Check();
     } catch (const std::exception&) {

@@ -55,10 +55,12 @@ OrderedJson ToolJson(const sim::Scenario& s, std::size_t t, bool rigid_with_pati
       marker["conforms_to"] = s.scene.objects[static_cast<std::size_t>(m.conforms_to_object)].name;
     markers.push_back(marker);
   }
-  return {{"mount", MountName(s, s.tool_mounts[t])},
-          {"mount_from_tool", MatrixJson(tool.scene_from_tool)},
-          {"rigid_with_patient", rigid_with_patient},
-          {"markers", markers}};
+  OrderedJson j{{"mount", MountName(s, s.tool_mounts[t])},
+                {"mount_from_tool", MatrixJson(tool.scene_from_tool)},
+                {"rigid_with_patient", rigid_with_patient},
+                {"markers", markers}};
+  if (tool.tip_in_tool) j["tip_in_tool"] = Vector(*tool.tip_in_tool);
+  return j;
 }
 
 OrderedJson PatientJson(const sim::Scenario& s) {
@@ -75,6 +77,13 @@ OrderedJson PatientJson(const sim::Scenario& s) {
                             {"entry_in_image", Vector(t.entry_in_image)},
                             {"target_in_image", Vector(t.target_in_image)}});
   }
+  OrderedJson landmarks = OrderedJson::array();
+  for (const sim::PlannedLandmark& l : p.landmarks) {
+    landmarks.push_back({{"name", l.name},
+                         {"in_image", Vector(l.in_image)},
+                         {"touch_first_slot", l.touch_first_slot},
+                         {"touch_last_slot", l.touch_last_slot}});
+  }
   return {{"head", p.head_source},
           {"object", s.scene.objects[object].name},
           {"mount", MountName(s, s.object_mounts[object])},
@@ -84,7 +93,8 @@ OrderedJson PatientJson(const sim::Scenario& s) {
             {"semi_axes_mm", Vector(p.anatomy.semi_axes_mm)},
             {"nasion_elevation_rad", p.anatomy.nasion_elevation_rad}}},
           {"ventricles", ventricles},
-          {"trajectories", trajectories}};
+          {"trajectories", trajectories},
+          {"landmarks", landmarks}};
 }
 
 OrderedJson Header(const sim::Scenario& s, const TruthRunInfo& info) {

@@ -190,7 +190,9 @@ int AddInstrument(Scenario& scenario, const std::string& name, const InstrumentO
     scenario.AddObject(name + "_plate", PlaneMesh(plate.x(), plate.y()), rod_material, mount,
                        Rigid3d::Identity());
   }
-  return scenario.AddTool(ToolPreset(options.preset, name, marker_material), mount);
+  Tool tool = ToolPreset(options.preset, name, marker_material);
+  tool.tip_in_tool = InstrumentTipInTool(options);
+  return scenario.AddTool(std::move(tool), mount);
 }
 
 Motion PassesMotion(const Rigid3d& parked, const std::vector<Pass>& passes) {

@@ -43,6 +43,14 @@ struct CameraSetup {
   const Rigid3d& RigFromAhat() const;
 };
 
+/// A landmark on the skin in `image` coordinates [mm], and when a scenario's pointer touches it.
+struct PlannedLandmark {
+  std::string name;
+  Eigen::Vector3d in_image = Eigen::Vector3d::Zero();
+  std::int64_t touch_first_slot = -1;  // the tip rests on it from this slot ...
+  std::int64_t touch_last_slot = -1;   // ... to this one (-1: never touched)
+};
+
 /// The patient: a head whose skin is one scene object, meshed in `image` (CT LPS) coordinates.
 struct Patient {
   std::string head_source = "phantom";  // "phantom" or "mesh:<path>", for reports
@@ -51,6 +59,9 @@ struct Patient {
   bool write_ct = true;
   SyntheticCtOptions ct;
   std::vector<Trajectory> plan;  // in image coordinates
+  /// Anatomical landmarks planned in the image for the accuracy check before guidance (tofnav
+  /// verify), and the frame slots in which the scenario's pointer rests on each (empty: none).
+  std::vector<PlannedLandmark> landmarks;
 };
 
 struct Scenario {

@@ -12,6 +12,7 @@
 #include "tofnav/sim/evd_occluders.hpp"
 #include "tofnav/sim/patient.hpp"
 #include "tofnav/sim/scenario_pivot.hpp"
+#include "tofnav/sim/scenario_verify.hpp"
 #include "tofnav/sim/shapes.hpp"
 #include "tofnav/sim/tool_presets.hpp"
 
@@ -350,6 +351,12 @@ constexpr Builtin kBuiltins[] = {
     {"reconstruction-shapes-pp", ReconstructionShapesPhotopolymer, false},
     {"evd-usecase", EvdUseCase, true},
     {"pivot-calibration", [](const PatientHead*) { return PivotCalibrationScenario(); }, false},
+    {"verify-landmarks",
+     [](const PatientHead* given) {
+       const PatientHead head = HeadOrPhantom(given);
+       return VerifyLandmarksScenario(EvdUseCase(&head), head);
+     },
+     true},
 };
 
 }  // namespace

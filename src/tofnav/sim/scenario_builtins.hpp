@@ -11,8 +11,8 @@
 namespace tofnav::sim {
 
 /// "marker-stage", "materials", "head-identification", "depth-accuracy", "reconstruction",
-/// "reconstruction-shapes", "reconstruction-shapes-pp", "evd-usecase", "pivot-calibration"
-/// (docs/simulator.md).
+/// "reconstruction-shapes", "reconstruction-shapes-pp", "evd-usecase", "pivot-calibration",
+/// "verify-landmarks" (docs/simulator.md).
 std::vector<std::string> BuiltinScenarioNames();
 
 /// One-line summary of a built-in.

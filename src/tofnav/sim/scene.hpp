@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,8 @@ struct Tool {
   std::string name;
   std::vector<Marker> markers;
   Rigid3d scene_from_tool;
+  /// A pointer's or instrument's tip, when it has one (the truth a pivot calibration finds).
+  std::optional<Eigen::Vector3d> tip_in_tool;
 };
 
 /// Everything the camera can see. Geometry is fixed once a renderer is built from the scene;

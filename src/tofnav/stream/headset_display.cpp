@@ -20,18 +20,6 @@ std::chrono::steady_clock::duration Duration(double s) {
       std::chrono::duration<double>(s));
 }
 
-UnityTransform TransformOf(const Hologram& h, const Eigen::Vector3d& up_in_world) {
-  switch (h.shape) {
-    case HologramShape::kSphere:
-      return UnitySphere(h.a_in_world, h.diameter_mm);
-    case HologramShape::kCylinder:
-      return UnityCylinder(h.a_in_world, h.b_in_world, h.diameter_mm);
-    case HologramShape::kText:
-      return UnityTextPanel(h.a_in_world, h.b_in_world, up_in_world);
-  }
-  return {};
-}
-
 bool Keyed(RemoteSceneCommandId id) {
   return id == RemoteSceneCommandId::kSetActive || id == RemoteSceneCommandId::kSetWorldTransform ||
          id == RemoteSceneCommandId::kSetColour || id == RemoteSceneCommandId::kSetText;
@@ -59,7 +47,7 @@ HeadsetDisplay::HeadsetDisplay(std::vector<Trajectory> plan, const HeadsetDispla
 HeadsetDisplay::~HeadsetDisplay() { Close(); }
 
 void HeadsetDisplay::Update(const NavigationState& state) {
-  HeadsetScene scene = ComposeHeadsetScene(state, plan_, options_.scene);
+  HeadsetScene scene = ComposeHeadsetScene(state, plan_, options_.scene, note_);
   std::vector<std::string> speech;
   SpeakOnChange(scene, state, speech);
   const std::lock_guard lock(mutex_);
@@ -201,6 +189,12 @@ void HeadsetDisplay::Handle(Post post) {
       client_ =
           std::make_unique<RemoteSceneClient>(options_.host, options_.port, options_.io_timeout_s);
     }
+    // Recorded before the push: once the plugin has the display list the holograms are on the
+    // headset, even if this process dies before the answer comes back.
+    const Hologram& panel = next[TextPanelSlot(plan_.size())];
+    if (panel.visible) last_panel_ = panel;
+    created_any_ = true;
+    ReportShown(true);
     const std::vector<std::uint32_t> results = client_->Push(c);
     answered = true;
     for (std::size_t i = 0; i < results.size(); ++i) {
@@ -262,6 +256,10 @@ void HeadsetDisplay::Handle(Post post) {
     ProbeSpeech(speak_now ? std::vector<std::string>{} : post.speech);
 }
 
+void HeadsetDisplay::ReportShown(bool anything) {
+  if (options_.on_shown) options_.on_shown(HeadsetShown{anything, last_panel_});
+}
+
 void HeadsetDisplay::ProbeSpeech(const std::vector<std::string>& held) {
   speech_probed_ = true;
   RemoteSceneCommands probe;
@@ -307,7 +305,7 @@ void HeadsetDisplay::AppendChanges(RemoteSceneCommands& c, std::uint32_t key, co
   }
   const bool moved =
       !have.visible || HologramMoved(have, want, options_.min_move_mm, options_.min_turn_rad);
-  if (moved) c.SetWorldTransform(key, TransformOf(want, options_.scene.up_in_world));
+  if (moved) c.SetWorldTransform(key, HologramTransform(want, options_.scene.up_in_world));
   if (want.shape == HologramShape::kText) {
     if (want.text != have.text || !(want.colour == have.colour)) {
       c.SetText(key, options_.scene.font_size, want.colour, want.text);
@@ -347,6 +345,8 @@ void HeadsetDisplay::RemoveHolograms() {
     return;
   }
   client_.reset();
+  created_any_ = false;
+  ReportShown(false);
   const std::lock_guard lock(mutex_);
   stats_.connected = false;
 }
@@ -360,6 +360,7 @@ void HeadsetDisplay::Close() {
   wake_.notify_one();
   if (thread_.joinable()) thread_.join();
   const std::lock_guard lock(mutex_);
+  stats_.cleared = !created_any_;
   handled_sequence_ = posted_;
   handled_.notify_all();
 }

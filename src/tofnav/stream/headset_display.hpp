@@ -19,6 +19,13 @@
 
 namespace tofnav {
 
+/// What the headset may be showing once the last push has arrived: what a supervisor needs to
+/// clean up after a process that ended without Close (docs/navigation.md 6.6).
+struct HeadsetShown {
+  bool anything = false;          // this run's holograms exist on the headset (hidden or not)
+  std::optional<Hologram> panel;  // the text panel where it was last visible, if ever
+};
+
 struct HeadsetDisplayOptions {
   std::string host = "127.0.0.1";
   int port = kRemoteScenePort;
@@ -34,6 +41,10 @@ struct HeadsetDisplayOptions {
   /// Called once per notice, on the sender thread: the headset cannot speak, or another client
   /// holds the remote scene (one line each, for the user; docs/navigation.md 6.4).
   std::function<void(const std::string&)> on_notice;
+  /// Called on the sender thread before every push (what the headset may show from then on, even
+  /// if this process dies before the answer), and after Close removed the holograms (anything
+  /// false): a supervisor's record of what is left to clear.
+  std::function<void(const HeadsetShown&)> on_shown;
   void Check() const;  // throws PreconditionError naming the bad field
 };
 
@@ -54,6 +65,7 @@ struct HeadsetDisplayStats {
   std::uint64_t spoken = 0;
   bool connected = false;
   bool speech_available = true;  // false once the speech probe went unanswered
+  bool cleared = false;          // Close removed this run's holograms (or none were created)
   std::string last_error;
   std::vector<std::string> notices;  // each said once (on_notice)
 };
@@ -73,6 +85,8 @@ class HeadsetDisplay {
 
   /// Called once per frame on the navigation thread; cheap and non-blocking.
   void Update(const NavigationState& state);
+  /// Lines above the panel's from the next Update on (navigation thread; tofnav verify).
+  void SetPanelNote(PanelNote note) { note_ = std::move(note); }
   /// Removes the holograms (one push, bounded by io_timeout_s) and stops the sender. Idempotent.
   void Close();
   /// Waits until every update so far has been handled (sent, found unchanged, or dropped); for
@@ -101,12 +115,15 @@ class HeadsetDisplay {
   /// speech is off (and the connection, which the plugin no longer answers, is made again).
   void ProbeSpeech(const std::vector<std::string>& held);
   void RemoveHolograms();
+  /// Reports what the headset may show now through on_shown.
+  void ReportShown(bool anything);
   void SpeakOnChange(const HeadsetScene& scene, const NavigationState& state,
                      std::vector<std::string>& speech);
 
   std::vector<Trajectory> plan_;
   HeadsetDisplayOptions options_;
   // Navigation thread only.
+  PanelNote note_;
   bool was_shown_ = false;
   bool speech_probed_ = false;  // sender thread
   bool speech_off_ = false;
@@ -127,6 +144,8 @@ class HeadsetDisplay {
   std::vector<Hologram> shown_;         // what the headset shows per slot
   Clock::time_point last_posted_at_{};  // of the scene shown
   bool expired_ = false;
+  std::optional<Hologram> last_panel_;  // the text panel where it was last visible
+  bool created_any_ = false;            // holograms made by this run may be on the headset
   std::thread thread_;
 };
 

@@ -244,13 +244,8 @@ TEST(HeadsetDisplay, CloseRemovesTheHolograms) {
 }
 
 TEST(HeadsetDisplay, AbsentHeadsetNeverBlocksUpdates) {
-  int port = 0;
-  {
-    FakeRemoteSceneServer gone;
-    port = gone.port();
-  }
   HeadsetDisplayOptions o;
-  o.port = port;
+  o.port = ClosedLoopbackPort();
   HeadsetDisplay display(Plan(), o);
   for (int i = 0; i < 100; ++i) display.Update(Tracked(WorldFromImage(i, 0.0)));
   ASSERT_TRUE(display.WaitUntilHandled(kWait_s));

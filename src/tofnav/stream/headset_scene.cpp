@@ -63,7 +63,7 @@ std::string PanelText(const NavigationState& state, const std::vector<Trajectory
   char live[48];
   std::snprintf(live, sizeof live, "\nlive %.2f s", std::floor(4.0 * state.timestamp_s) / 4.0);
   text += live;
-  if (!state.guidance) return text + "\ninstrument not tracked";
+  if (!state.guidance) return plan.empty() ? text : text + "\ninstrument not tracked";
   char line[160];
   std::snprintf(line, sizeof line, "\ntip-entry %.1f mm\nangle %.1f deg\ndepth %.1f mm",
                 state.guidance->tip_to_entry_mm, state.guidance->angle_to_axis_rad * kRadToDeg,
@@ -97,7 +97,7 @@ bool HeadsetPoseFresh(const NavigationState& state, double max_pose_age_s) {
 }
 
 HeadsetScene ComposeHeadsetScene(const NavigationState& state, const std::vector<Trajectory>& plan,
-                                 const HeadsetSceneOptions& options) {
+                                 const HeadsetSceneOptions& options, const PanelNote& note) {
   options.Check();
   const std::size_t n = plan.size();
   HeadsetScene scene;
@@ -133,15 +133,27 @@ HeadsetScene ComposeHeadsetScene(const NavigationState& state, const std::vector
                  level_colour);
     scene.holograms[InstrumentTipSlot(n)] = Sphere(tip, options.tip_diameter_mm, level_colour);
   }
+  const Eigen::Vector3d up = options.up_in_world.normalized();
+  std::optional<Eigen::Vector3d> at;
   if (active < n) {
-    const Eigen::Vector3d up = options.up_in_world.normalized();
-    const Eigen::Vector3d at = state.plan[active].entry_in_world + options.text_offset_mm * up;
+    at = state.plan[active].entry_in_world + options.text_offset_mm * up;
+  } else if (note.anchor_in_image) {
+    at = *state.world_from_image * *note.anchor_in_image + options.text_offset_mm * up;
+  }
+  if (at) {
     // Facing the wearer: the head pose of this frame, else from straight ahead of the panel.
     const Eigen::Vector3d viewer = state.world_from_rig
                                        ? state.world_from_rig->translation
-                                       : Eigen::Vector3d(at + 500.0 * Eigen::Vector3d::UnitZ());
+                                       : Eigen::Vector3d(*at + 500.0 * Eigen::Vector3d::UnitZ());
+    const std::string text = PanelText(state, plan);
     Hologram& panel = scene.holograms[TextPanelSlot(n)];
-    panel = {HologramShape::kText, true, at, viewer, 0.0, kWhite, PanelText(state, plan)};
+    panel = {HologramShape::kText,
+             true,
+             *at,
+             viewer,
+             0.0,
+             kWhite,
+             note.text.empty() ? text : note.text + "\n" + text};
   }
   return scene;
 }
@@ -166,6 +178,18 @@ bool HologramChanged(const Hologram& shown, const Hologram& next, double min_mov
     return true;
   }
   return next.visible && HologramMoved(shown, next, min_move_mm, min_turn_rad);
+}
+
+UnityTransform HologramTransform(const Hologram& h, const Eigen::Vector3d& up_in_world) {
+  switch (h.shape) {
+    case HologramShape::kSphere:
+      return UnitySphere(h.a_in_world, h.diameter_mm);
+    case HologramShape::kCylinder:
+      return UnityCylinder(h.a_in_world, h.b_in_world, h.diameter_mm);
+    case HologramShape::kText:
+      return UnityTextPanel(h.a_in_world, h.b_in_world, up_in_world);
+  }
+  return {};
 }
 
 }  // namespace tofnav

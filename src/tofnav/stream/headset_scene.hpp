@@ -4,6 +4,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,13 @@ struct HeadsetSceneOptions {
   void Check() const;  // throws PreconditionError naming the bad field
 };
 
+/// Lines shown above the panel's own (e.g. tofnav verify's prompt), and where the panel goes when
+/// the plan has no trajectory: `anchor_in_image` placed by world_from_image.
+struct PanelNote {
+  std::string text;
+  std::optional<Eigen::Vector3d> anchor_in_image;
+};
+
 /// The holograms of one frame in fixed slots: per trajectory i, 3i entry sphere, 3i + 1 target
 /// sphere, 3i + 2 path cylinder; then the instrument axis, its tip and the text panel.
 struct HeadsetScene {
@@ -75,7 +83,8 @@ bool HeadsetPoseFresh(const NavigationState& state, double max_pose_age_s);
 /// The scene of `state` for `plan` (the NavigationCase's plan, for names and slot count).
 /// Everything is invisible when the pose is not fresh.
 HeadsetScene ComposeHeadsetScene(const NavigationState& state, const std::vector<Trajectory>& plan,
-                                 const HeadsetSceneOptions& options = {});
+                                 const HeadsetSceneOptions& options = {},
+                                 const PanelNote& note = {});
 
 /// Whether the geometry of `next` differs from `shown`: an end point (or the diameter) moved by
 /// more than `min_move_mm`, or the direction a -> b turned by more than `min_turn_rad`.
@@ -86,5 +95,9 @@ bool HologramMoved(const Hologram& shown, const Hologram& next, double min_move_
 /// `min_turn_rad`.
 bool HologramChanged(const Hologram& shown, const Hologram& next, double min_move_mm,
                      double min_turn_rad);
+
+/// Where the plugin must put `h`'s primitive (or text) in Unity's world, `up_in_world` keeping a
+/// text panel upright.
+UnityTransform HologramTransform(const Hologram& h, const Eigen::Vector3d& up_in_world);
 
 }  // namespace tofnav

@@ -137,12 +137,7 @@ TEST(RemoteSceneClient, EndpointParsing) {
 }
 
 TEST(RemoteSceneClient, NoServerIsAnIoErrorWithinTheTimeout) {
-  int port = 0;
-  {
-    FakeRemoteSceneServer gone;
-    port = gone.port();
-  }
-  EXPECT_THROW(RemoteSceneClient("127.0.0.1", port, 0.5), IoError);
+  EXPECT_THROW(RemoteSceneClient("127.0.0.1", ClosedLoopbackPort(), 0.5), IoError);
 }
 
 // The stand-in's frame loop (issue 37): the plugin runs one command per Unity frame outside a

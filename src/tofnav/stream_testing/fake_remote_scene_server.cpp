@@ -299,4 +299,9 @@ void FakeRemoteSceneServer::Run() {
   }
 }
 
+int ClosedLoopbackPort() {
+  const FakeRemoteSceneServer gone;
+  return gone.port();
+}
+
 }  // namespace tofnav

@@ -112,4 +112,7 @@ class FakeRemoteSceneServer {
   std::thread thread_;
 };
 
+/// A loopback port nothing listens on: one a stand-in had, now closed (an absent headset).
+int ClosedLoopbackPort();
+
 }  // namespace tofnav
