@@ -18,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <mutex>
 #include <sstream>
 #include <thread>
@@ -263,6 +264,28 @@ TEST_F(Supervisor, SigtermStopsTheWorkerWhichClearsTheHeadset) {
 // The supervisor itself killed: its worker is told (SIGTERM) and clears the headset.
 TEST_F(Supervisor, AKilledSupervisorsWorkerClearsTheHeadset) {
   ExpectEmptiedBySignal(SIGKILL, 128 + SIGKILL, "");
+}
+
+// The headset gone before the worker dies: the supervisor cannot clear it and says what to do.
+TEST_F(Supervisor, AnUnreachableHeadsetIsReportedAsStale) {
+  auto server =
+      std::make_unique<FakeRemoteSceneServer>(0, FakeRemoteSceneOptions{.frame_rate_hz = 60.0});
+  Lists lists;
+  server->SetOnDisplayList([&](const FakeRemoteScene& s) { lists.Add(s); });
+  const Spawned run = StartNavigate(server->port(), {});
+  ASSERT_GE(lists.WaitFor(0, kStartS, GuidanceShown), 0) << ReadAll(run.stderr_path);
+  const pid_t worker = WorkerOf(run.pid);
+  server.reset();  // the headset drops off the network
+  ASSERT_EQ(::kill(worker, SIGKILL), 0);
+  EXPECT_EQ(WaitExit(run.pid), 128 + SIGKILL);
+  const std::string said = ReadAll(run.stderr_path);
+  const std::string head =
+      "tofnav navigate: the navigation process was killed by signal 9 (SIGKILL) without clearing "
+      "the headset, and it could not be cleared (tcp://127.0.0.1:";
+  const std::string tail = "): its holograms are stale; restart the headset app to remove them\n";
+  EXPECT_EQ(said.substr(0, head.size()), head) << said;
+  ASSERT_GE(said.size(), tail.size());
+  EXPECT_EQ(said.substr(said.size() - tail.size()), tail) << said;
 }
 
 }  // namespace

@@ -68,4 +68,21 @@ assert v["passed"] == expect_pass and (status == 0) == expect_pass, (v["status"]
 print(f"seed {seed} {reg}: {v['status']} (exit {status}); worst |reported - true| {worst:.3f} mm")
 PY
   done
+  [ "$seed" = "${seeds[0]}" ] || continue
+  # The check as a step of navigate, as a user reads it: one line per touch, then the verdict.
+  "$tofnav" navigate "$case_dir/rm_depth_ahat.bin" --calibration "$case_dir/calibration" \
+    --tool "$case_dir/tools/reference.json" --registration "$case_dir/tool_from_image.json" \
+    --plan "$case_dir/plan.mrk.json" --instrument "$case_dir/tools/instrument.json" \
+    --verify "$case_dir/landmarks.mrk.json" --marker-error "$scratch/frf.json" --no-igtl \
+    >"$scratch/navigate.txt"
+  /usr/bin/python3 - "$scratch/navigate.txt" <<'PY'
+import re, sys
+lines = [l for l in open(sys.argv[1]).read().splitlines() if l.startswith("verify")]
+names = ["nasion", "right_lateral_canthus", "left_lateral_canthus", "forehead"]
+assert len(lines) == 5, lines
+for name, line in zip(names, lines):
+    assert re.fullmatch(rf"verify: {name} \d+\.\d\d mm ok \(rested \d\.\d\d s, \d+ frames\)", line), line
+assert re.fullmatch(r"verify PASSED: largest error \d\.\d\d mm \(limit 2\.00 mm\)", lines[4]), lines[4]
+print("navigate --verify:", lines[4])
+PY
 done

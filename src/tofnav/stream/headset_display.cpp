@@ -9,6 +9,7 @@
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/io/io_error.hpp"
+#include "tofnav/stream/socket.hpp"
 
 namespace tofnav {
 namespace {
@@ -274,6 +275,14 @@ void HeadsetDisplay::ProbeSpeech(const std::vector<std::string>& held) {
       stats_.spoken += held.size();
     }
   } catch (const IoError& e) {
+    // Only an unanswered `say` means an app without speech; a connection that closed or failed
+    // is a lost headset (probed again on the next connect).
+    const auto* network = dynamic_cast<const NetworkError*>(&e);
+    if (network == nullptr || network->failure() != NetworkFailure::kTimeout) {
+      speech_probed_ = false;
+      Disconnect(e.what());
+      return;
+    }
     speech_off_ = true;
     Disconnect(e.what());
     next_connect_at_.reset();  // reconnect with the next update, without speech

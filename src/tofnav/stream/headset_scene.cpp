@@ -61,8 +61,8 @@ std::string PanelText(const NavigationState& state, const std::vector<Trajectory
   // The liveness tick: the frame's time in quarter seconds, so the panel changes 4 times a second
   // while fresh poses arrive and a frozen scene is seen to be frozen (docs/navigation.md 6.3).
   char live[48];
-  std::snprintf(live, sizeof live, "\nlive %.2f s", std::floor(4.0 * state.timestamp_s) / 4.0);
-  text += live;
+  std::snprintf(live, sizeof live, "live %.2f s", std::floor(4.0 * state.timestamp_s) / 4.0);
+  text += (text.empty() ? "" : "\n") + std::string(live);
   if (!state.guidance) return plan.empty() ? text : text + "\ninstrument not tracked";
   char line[160];
   std::snprintf(line, sizeof line, "\ntip-entry %.1f mm\nangle %.1f deg\ndepth %.1f mm",
