@@ -146,6 +146,19 @@ pid_t WorkerOf(pid_t supervisor) {
   return worker;
 }
 
+// Waits until a process that is not our child has ended (gone, or a zombie nobody reaped yet).
+bool WaitGone(pid_t pid, double timeout_s) {
+  const Clock::time_point give_up = Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                                       std::chrono::duration<double>(timeout_s));
+  while (Clock::now() < give_up) {
+    std::ifstream stat("/proc/" + std::to_string(pid) + "/stat");
+    std::string pid_field, name, state;
+    if (!(stat >> pid_field >> name >> state) || state == "Z") return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  return false;
+}
+
 int WaitExit(pid_t pid) {
   int status = 0;
   ::waitpid(pid, &status, 0);
@@ -237,6 +250,7 @@ void ExpectEmptiedBySignal(int signal, int expected_status, const std::string& e
   const Spawned run = StartNavigate(server.port(), {});
   const int shown = lists.WaitFor(0, kStartS, GuidanceShown);
   ASSERT_GE(shown, 0) << ReadAll(run.stderr_path);
+  const pid_t worker = WorkerOf(run.pid);
   const Clock::time_point sent = Clock::now();
   ASSERT_EQ(::kill(run.pid, signal), 0);
   EXPECT_EQ(WaitExit(run.pid), expected_status);
@@ -252,6 +266,7 @@ void ExpectEmptiedBySignal(int signal, int expected_status, const std::string& e
     std::printf("signal %d to the supervisor: headset emptied after %.0f ms\n", signal,
                 1e3 * took_s);
   }
+  EXPECT_TRUE(WaitGone(worker, kStartS));  // its last words written
   EXPECT_EQ(ReadAll(run.stderr_path), expected_stderr);
 }
 
@@ -261,9 +276,9 @@ TEST_F(Supervisor, SigtermStopsTheWorkerWhichClearsTheHeadset) {
   ExpectEmptiedBySignal(SIGTERM, 0, "tofnav navigate: stopped by SIGTERM\n");
 }
 
-// The supervisor itself killed: its worker is told (SIGTERM) and clears the headset.
+// The supervisor itself killed: its worker is told (SIGTERM), clears the headset and says why.
 TEST_F(Supervisor, AKilledSupervisorsWorkerClearsTheHeadset) {
-  ExpectEmptiedBySignal(SIGKILL, 128 + SIGKILL, "");
+  ExpectEmptiedBySignal(SIGKILL, 128 + SIGKILL, "tofnav navigate: stopped by SIGTERM\n");
 }
 
 // The headset gone before the worker dies: the supervisor cannot clear it and says what to do.

@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <iostream>
+#include <iterator>
 #include <optional>
 #include <set>
 
@@ -84,6 +85,47 @@ SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
   return summary;
 }
 
+// Per case, its runs' spread over seeds: SuiteSummary of the case's rows.
+SuiteJson SpreadOverSeeds(const std::vector<SuiteJson>& rows) {
+  SuiteJson spread = SuiteJson::object();
+  std::vector<std::string> order;
+  for (const SuiteJson& r : rows) {
+    const std::string name = r.at("case").get<std::string>();
+    if (std::find(order.begin(), order.end(), name) == order.end()) order.push_back(name);
+  }
+  for (const std::string& name : order) {
+    std::vector<SuiteJson> of_case;
+    std::copy_if(rows.begin(), rows.end(), std::back_inserter(of_case),
+                 [&](const SuiteJson& r) { return r.at("case") == name; });
+    spread[name] = SuiteSummary(of_case);
+  }
+  return spread;
+}
+
+// "0.18/0.31": a figure's median and worst over a case's runs.
+std::string MedianWorst(const SuiteJson& summary, const char* key, int decimals) {
+  if (!summary.contains(key)) return "-";
+  char text[48];
+  std::snprintf(text, sizeof text, "%.*f/%.*f", decimals, summary[key]["median"].get<double>(),
+                decimals, summary[key]["worst"].get<double>());
+  return text;
+}
+
+void PrintSpread(const SuiteJson& spread, std::size_t seeds) {
+  std::printf("\nspread over %zu seeds per case (median/worst):\n", seeds);
+  std::printf("%-24s %5s %11s %11s %11s %11s %11s %11s\n", "case", "met", "track mm", "recon mm",
+              ">3mm %", "TRE mm", "entry mm", "angle deg");
+  for (const auto& [name, s] : spread.items()) {
+    const std::string met = std::to_string(s["cases_meeting_every_line"].get<std::size_t>()) + "/" +
+                            std::to_string(s["cases"].get<std::size_t>());
+    std::printf(
+        "%-24s %5s %11s %11s %11s %11s %11s %11s\n", name.c_str(), met.c_str(),
+        MedianWorst(s, "tracking_mm", 2).c_str(), MedianWorst(s, "reconstruction_mm", 3).c_str(),
+        MedianWorst(s, "beyond_3mm_percent", 2).c_str(), MedianWorst(s, "true_tre_mm", 2).c_str(),
+        MedianWorst(s, "entry_mm", 2).c_str(), MedianWorst(s, "angle_deg", 2).c_str());
+  }
+}
+
 int RunEvaluateSuite(int argc, char** argv) {
   CLI::App app{
       "The robustness suite: simulates every case of a suite file (scenario variations: heads, "
@@ -97,11 +139,19 @@ int RunEvaluateSuite(int argc, char** argv) {
   std::vector<std::string> only;
   std::optional<double> frames_scale;  // unset: the suite's
   bool json = false, quiet = false;
+  std::size_t seeds = 1;
+  std::uint64_t seed_offset = 0;
   app.add_option("suite", suite_name, "suite file, or a built-in: default, smoke")->required();
   app.add_option("--out", out, "output folder: one folder per case, suite.json, suite.html");
   app.add_option("--only", only, "run only these cases (repeatable)");
   app.add_option("--frames-scale", frames_scale, "override the suite's frame scale")
       ->check(CLI::Range(0.05, 20.0));
+  app.add_option("--seeds", seeds,
+                 "run each case at this many seeds (its seed + offset + 0 .. K-1) and report the "
+                 "spread: per case and over the suite, median and worst, runs meeting every line")
+      ->check(CLI::Range(1, 1000));
+  app.add_option("--seed-offset", seed_offset,
+                 "added to every case's seed: a seed set nobody has looked at (e.g. the date)");
   app.add_flag("--json", json, "print suite.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no per-case progress lines on stderr");
   std::string profile = "raw";
@@ -131,11 +181,23 @@ int RunEvaluateSuite(int argc, char** argv) {
   for (const SuiteCase& c : suite.cases) {
     if (!wanted.empty() && !wanted.count(c.name)) continue;
     ++index;
-    if (!quiet) std::cerr << "suite: " << c.name << " (" << index << ") ..." << std::endl;
-    rows.push_back(RunSuiteCase(c, scale, out / c.name, true, stream_profile, bitrate_bps));
-    if (!json) {
-      PrintRow(rows.back());
-      std::fflush(stdout);
+    for (std::size_t k = 0; k < seeds; ++k) {
+      SuiteCase run = c;
+      run.seed = c.seed + seed_offset + k;
+      const bool several = seeds > 1 || seed_offset != 0;  // one folder and label per seed
+      const std::string label = several ? c.name + "@" + std::to_string(run.seed) : c.name;
+      if (!quiet) std::cerr << "suite: " << label << " (" << index << ") ..." << std::endl;
+      const std::filesystem::path dir =
+          several ? out / c.name / ("seed" + std::to_string(run.seed)) : out / c.name;
+      SuiteJson row = RunSuiteCase(run, scale, dir, true, stream_profile, bitrate_bps);
+      row["name"] = label;
+      row["case"] = c.name;
+      row["seed"] = run.seed;
+      rows.push_back(std::move(row));
+      if (!json) {
+        PrintRow(rows.back());
+        std::fflush(stdout);
+      }
     }
   }
   const double elapsed_s =
@@ -146,14 +208,18 @@ int RunEvaluateSuite(int argc, char** argv) {
                    {"frames_scale", scale},
                    {"stream_profile", Hl2ssStreamProfileName(stream_profile)},
                    {"elapsed_s", elapsed_s},
-                   {"summary", SuiteSummary(rows)},
-                   {"rows", rows}};
+                   {"seeds_per_case", seeds},
+                   {"seed_offset", seed_offset},
+                   {"summary", SuiteSummary(rows)}};
+  if (seeds > 1) result["spread"] = SpreadOverSeeds(rows);
+  result["rows"] = rows;
   result["options"] = EffectiveOptions(app);
   WriteFileAtomically(out / "suite.json", result.dump(2) + "\n");
   WriteSuiteHtml(out / "suite.json", out / "suite.html");
   if (json) {
     std::cout << result.dump(2) << "\n";
   } else {
+    if (result.contains("spread")) PrintSpread(result["spread"], seeds);
     std::cout << "\nsummary: " << result["summary"].dump() << "\n"
               << "suite.json and suite.html in " << out.string() << " (" << elapsed_s << " s)\n";
   }

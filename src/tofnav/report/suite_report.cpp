@@ -46,6 +46,34 @@ std::vector<std::string> RowCells(const Json& row) {
           EscapeXml(Text(row, "error"))};
 }
 
+// "0.18 / 0.31": a figure's median and worst over a case's runs.
+std::string MedianWorstCell(const Json& summary, const char* figure, int significant = 3) {
+  if (!summary.contains(figure)) return "-";
+  return Cell(Number(summary.at(figure), "median"), significant) + " / " +
+         Cell(Number(summary.at(figure), "worst"), significant);
+}
+
+// Per case over its seeds (tofnav evaluate suite --seeds K): runs meeting every line, and the
+// median and worst of each figure.
+std::string SpreadTable(const Json& spread) {
+  std::vector<std::vector<std::string>> cells;
+  for (const auto& [name, s] : spread.items()) {
+    const auto runs = s.value("cases", std::size_t{0});
+    const auto met = s.value("cases_meeting_every_line", std::size_t{0});
+    cells.push_back({EscapeXml(name),
+                     "<span class=\"" + std::string(met == runs ? "ok" : "missed") + "\">" +
+                         std::to_string(met) + " of " + std::to_string(runs) + "</span>",
+                     MedianWorstCell(s, "tracking_mm"), MedianWorstCell(s, "reconstruction_mm"),
+                     MedianWorstCell(s, "beyond_3mm_percent"), MedianWorstCell(s, "true_tre_mm"),
+                     MedianWorstCell(s, "entry_mm"), MedianWorstCell(s, "angle_deg")});
+  }
+  return "<h2>Spread over seeds (median / worst per case)</h2>\n" +
+         report_internal::Table(
+             {"case", "runs meeting every line", "tracking [mm]", "reconstruction [mm]",
+              "head &gt; 3 mm [%]", "true TRE [mm]", "entry [mm]", "angle [deg]"},
+             cells);
+}
+
 }  // namespace
 
 std::string RenderSuiteHtml(const std::filesystem::path& suite_json) {
@@ -78,6 +106,7 @@ std::string RenderSuiteHtml(const std::filesystem::path& suite_json) {
        "head &gt; 3 mm [%]", "outliers", "registration", "true TRE [mm]", "entry mm / angle deg",
        "wall [s]", "error"},
       cells);
+  if (suite.contains("spread")) html += SpreadTable(suite.at("spread"));
   const Json& summary = report_internal::Field(suite, "summary");
   html += "<h2>Summary</h2>\n<pre>" + EscapeXml(summary.dump(2)) + "</pre>\n";
   if (!names.empty()) {

@@ -15,6 +15,8 @@ namespace tofnav {
 namespace {
 
 constexpr Rgba kNeverSent{-1.0f, -1.0f, -1.0f, -1.0f};
+// Retries of a headset held by another client double from reconnect_interval_s up to this [s].
+constexpr double kHeldMaxBackoffS = 8.0;
 
 std::chrono::steady_clock::duration Duration(double s) {
   return std::chrono::duration_cast<std::chrono::steady_clock::duration>(
@@ -218,14 +220,20 @@ void HeadsetDisplay::Handle(Post post) {
       const bool unanswered = client_ != nullptr && !answered;
       client_.reset();
       keys_.clear();
+      if (unanswered) {  // retried ever less often (not a reconnect loop) until it is free
+        held_backoff_s_ =
+            std::min(held_backoff_s_ > 0.0 ? 2.0 * held_backoff_s_ : options_.reconnect_interval_s,
+                     kHeldMaxBackoffS);
+        next_connect_at_ = Clock::now() + Duration(held_backoff_s_);
+      }
       if (unanswered && !second_client_noticed_) {
         second_client_noticed_ = true;
         char line[256];
         std::snprintf(line, sizeof line,
                       "the headset accepted the connection but answered nothing within %g s: "
                       "another client (a second tofnav, hl2ss's viewer) holds its remote scene; "
-                      "retrying every %g s",
-                      options_.io_timeout_s, options_.reconnect_interval_s);
+                      "retrying after %g s, then ever less often (at most every %g s)",
+                      options_.io_timeout_s, options_.reconnect_interval_s, kHeldMaxBackoffS);
         Notice(line);
       }
       const std::lock_guard lock(mutex_);
@@ -245,6 +253,7 @@ void HeadsetDisplay::Handle(Post post) {
     if (connecting) {
       ++stats_.connections;
       stats_.connected = true;
+      held_backoff_s_ = 0.0;
     }
     if (post.scene.shown) {
       stats_.max_shown_pose_age_s = std::max(stats_.max_shown_pose_age_s, age_s);

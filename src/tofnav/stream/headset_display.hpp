@@ -128,6 +128,7 @@ class HeadsetDisplay {
   bool speech_probed_ = false;  // sender thread
   bool speech_off_ = false;
   bool second_client_noticed_ = false;
+  double held_backoff_s_ = 0.0;  // sender thread: the retry delay while another client holds it
   GuidanceLevel last_level_ = GuidanceLevel::kNoGuidance;
   std::optional<Clock::time_point> said_lost_at_, said_on_target_at_;
   // Shared, guarded by mutex_.

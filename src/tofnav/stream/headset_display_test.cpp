@@ -352,8 +352,8 @@ TEST(HeadsetDisplay, ASecondClientIsReportedInOneLine) {
   EXPECT_EQ(notices.Get(),
             (std::vector<std::string>{
                 "the headset accepted the connection but answered nothing within 0.2 s: another "
-                "client (a second tofnav, hl2ss's viewer) holds its remote scene; retrying every "
-                "0.05 s"}));
+                "client (a second tofnav, hl2ss's viewer) holds its remote scene; retrying after "
+                "0.05 s, then ever less often (at most every 8 s)"}));
   EXPECT_GE(display.stats().connect_failures, 2u);
   EXPECT_FALSE(display.stats().connected);
 }
