@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdio>
 #include <mutex>
 #include <numbers>
 #include <random>
@@ -193,8 +194,17 @@ TEST(HeadsetDisplay, HologramsHideWhenTheReferenceIsLostAndReturnOnlyFresh) {
   EXPECT_EQ(active_count(), 7);
 }
 
+// Issue 37: when the updates stop (a stalled link or navigation loop) the panel's tick stops
+// within 0.2 s: the whole scene, panel included, hides.
 TEST(HeadsetDisplay, NoUpdateForLongerThanThePoseAgeHidesTheScene) {
+  constexpr double kStopWithinS = 0.2;
   FakeRemoteSceneServer server;
+  std::mutex mutex;
+  std::vector<std::chrono::steady_clock::time_point> lists;
+  server.SetOnDisplayList([&](const FakeRemoteScene&) {
+    const std::lock_guard lock(mutex);
+    lists.push_back(std::chrono::steady_clock::now());
+  });
   HeadsetDisplayOptions o = Options(server);
   o.expire_after_s = 0.1;
   HeadsetDisplay display(Plan(), o);
@@ -203,6 +213,11 @@ TEST(HeadsetDisplay, NoUpdateForLongerThanThePoseAgeHidesTheScene) {
   ASSERT_TRUE(server.WaitForDisplayLists(2, kWait_s));  // shown, then hidden by the watchdog
   for (const auto& [key, object] : server.scene().objects) EXPECT_FALSE(object.active);
   EXPECT_EQ(display.stats().expired, 1u);
+  const std::lock_guard lock(mutex);
+  ASSERT_GE(lists.size(), 2u);
+  const double stopped_after_s = std::chrono::duration<double>(lists[1] - lists[0]).count();
+  EXPECT_LE(stopped_after_s, kStopWithinS);
+  std::printf("the panel hid %.0f ms after the last update\n", 1e3 * stopped_after_s);
 }
 
 TEST(HeadsetDisplay, StalledOrDroppedHeadsetLosesUpdatesAndReconnects) {
