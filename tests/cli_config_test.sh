@@ -19,7 +19,7 @@ fail() {
 json_get() { /usr/bin/python3 -c "import json,sys; o = json.load(open(sys.argv[1])); print($2)" "$1"; }
 
 commands=(simulate identify correct reconstruct track fit-marker-error tool-define pivot register
-  skin navigate demo info convert serve report "evaluate suite" "evaluate tracking"
+  skin navigate verify demo info convert serve report "evaluate suite" "evaluate tracking"
   "evaluate depth" "evaluate reconstruction" "evaluate guidance" "evaluate materials")
 for command in "${commands[@]}"; do
   # shellcheck disable=SC2086  # "evaluate suite" is two words

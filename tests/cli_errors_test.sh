@@ -79,6 +79,24 @@ expect_failure "HL2SSV23" navigate "$scratch/random.bin" --tool "$scratch/ref.js
   --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json" --no-igtl
 expect_failure "expected HOST[:PORT]" navigate "$scratch/random.bin" --tool "$scratch/ref.json" \
   --registration "$scratch/reg.json" --plan "$scratch/line.mrk.json" --no-igtl --hololens hl:x
+# tofnav verify (docs/navigation.md 7): a pointer without a tip, no landmark, a bad limit.
+printf '{"markups":[]}' >"$scratch/none.mrk.json"
+printf '{"markups":[{"type":"Fiducial","controlPoints":[{"label":"nasion","position":[0,-90,0]}]}]}' \
+  >"$scratch/lm.mrk.json"
+expect_failure "tofnav verify: error: --pointer $scratch/ref.json has no pivot-calibrated tip (tip_mm): calibrate it with tofnav pivot first" \
+  verify "$scratch/random.bin" --tool "$scratch/ref.json" --registration "$scratch/reg.json" \
+  --pointer "$scratch/ref.json" --landmarks "$scratch/lm.mrk.json" --no-igtl
+printf '{"name": "P", "markers": [[0,0,0],[50,0,0],[0,60,0],[30,30,20]], "tip_mm": [0,-150,0]}' \
+  >"$scratch/pointer.json"
+expect_failure "tofnav verify: error: $scratch/none.mrk.json: no defined control point" \
+  verify "$scratch/random.bin" --tool "$scratch/ref.json" --registration "$scratch/reg.json" \
+  --pointer "$scratch/pointer.json" --landmarks "$scratch/none.mrk.json" --no-igtl
+expect_failure "--pass-mm" verify "$scratch/random.bin" --tool "$scratch/ref.json" \
+  --registration "$scratch/reg.json" --pointer "$scratch/pointer.json" \
+  --landmarks "$scratch/lm.mrk.json" --no-igtl --pass-mm -1
+expect_failure "--verify needs --instrument with a pivot-calibrated tip (tip_mm)" navigate \
+  "$scratch/random.bin" --tool "$scratch/ref.json" --registration "$scratch/reg.json" \
+  --plan "$scratch/line.mrk.json" --verify "$scratch/lm.mrk.json" --no-igtl
 expect_failure "not an AHAT recording" pivot "$scratch/random.bin" --tool "$scratch/tri.json" \
   --reference "$scratch/ref.json" --out "$scratch/instrument.json"
 printf 'timestamp_s,status\n1.0,tracking\n' >"$scratch/nav.csv"

@@ -81,11 +81,14 @@ int RunNavigation(int argc, char** argv, bool verify_only) {
                    "(.mrk.json, .fcsv; docs/navigation.md 7)");
   }
   app.add_option("--pass-mm", check_options.pass_mm,
-                 "verify: a landmark passes within this error [mm]");
+                 "verify: a landmark passes within this error [mm]")
+      ->check(CLI::PositiveNumber);
   app.add_option("--still-s", check_options.still_time_s,
-                 "verify: the tip resting this long is a touch [s]");
+                 "verify: the tip resting this long is a touch [s]")
+      ->check(CLI::PositiveNumber);
   app.add_option("--still-radius-mm", check_options.still_radius_mm,
-                 "verify: ... every position this close to their mean [mm]");
+                 "verify: ... 80 % of its positions this close to their median [mm]")
+      ->check(CLI::Range(0.1, 20.0));
   app.add_option("--marker-error", marker_error_path,
                  "f_rf curve (tofnav fit-marker-error) applied to marker ranges (Eq. 2)");
   app.add_option("--trajectory", trajectory, "trajectory the instrument is guided along (name)");
@@ -144,6 +147,11 @@ int RunNavigation(int argc, char** argv, bool verify_only) {
   if (!marker_error_path.empty()) c.marker_range = ReadMarkerRangeJson(marker_error_path).model;
   std::optional<LandmarkCheck> check;  // docs/navigation.md 7
   if (!landmarks_path.empty()) {
+    if (verify_only && !c.instrument->tip_in_tool) {
+      throw std::runtime_error("--pointer " + instrument_path.string() +
+                               " has no pivot-calibrated tip (tip_mm): calibrate it with "
+                               "tofnav pivot first");
+    }
     if (!c.instrument || !c.instrument->tip_in_tool) {
       throw std::runtime_error("--verify needs --instrument with a pivot-calibrated tip (tip_mm)");
     }
