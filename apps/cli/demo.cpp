@@ -53,11 +53,17 @@ int RunDemo(int argc, char** argv) {
   std::string profile = "raw";
   std::optional<std::uint32_t> bitrate_bps;
   AddProfileOptions(app, profile, bitrate_bps);
+  int stability_subsets = 0;
+  app.add_option("--stability", stability_subsets,
+                 "identify again N times (0-10), each without another tenth of the frames, and "
+                 "report how far C1 moves (issue 40; about 25 s each)")
+      ->check(CLI::Range(0, 10));
   app.add_flag("--json", json, "print demo.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");
   TOFNAV_PARSE(app, argc, argv);
 
   DemoContext ctx;
+  ctx.stability_subsets = stability_subsets;
   ctx.out = out;
   ctx.seed = seed;
   ctx.quiet = quiet || json;

@@ -111,6 +111,57 @@ void RunDemoSession(DemoContext& ctx, DemoJson& stage) {
   stage["headframe_tool"] = "session/tools/headframe.json";
 }
 
+namespace {
+
+// The head's median depth error after correcting with `model`, against the truth.
+double HeadAfterMedianMm(const DemoContext& ctx, const AhatRecording& recording,
+                         const AhatCamera& camera, const DepthModelFile& model) {
+  const DepthEvaluation e = EvaluateDepthAgainstTruth(
+      recording, camera, ctx.session_dir, *ctx.session, model, ctx.depth_eval_frames, nullptr);
+  for (const ObjectDepthError& o : e.objects) {
+    if (o.name == PatientObjectName(*ctx.session)) return o.after_mm->median;
+  }
+  throw std::runtime_error("no head pixel was evaluated");
+}
+
+// The identification again without each of `ctx.stability_subsets` tenths of its frames: how far
+// each coefficient moves from the full run's (issue 40: C1 by at most 0.1 mm), and how far the
+// head's corrected depth moves with them (C1, C3 and C4 trade off: docs/correction.md 2.4).
+DemoJson IdentificationStability(const DemoContext& ctx, const AhatRecording& recording,
+                                 const AhatCamera& camera, const SurfaceIndex& skin,
+                                 IdentifyRecordingOptions options, const DepthModelFile& full) {
+  constexpr double kC1LimitMm = 0.1;  // issue 40 item 2
+  const double full_head_mm = HeadAfterMedianMm(ctx, recording, camera, full);
+  DemoJson runs = DemoJson::array();
+  double max_c1_mm = 0.0, max_head_mm = 0.0;
+  for (int k = 0; k < ctx.stability_subsets; ++k) {
+    options.leave_out = FrameLeaveOut{k, 10};
+    const DepthModelFile file =
+        IdentifyFromRecording(
+            recording, camera, ctx.frf, &skin, options,
+            [&](std::size_t d, std::size_t t) { ctx.progress("identify without a tenth", d, t); })
+            .file;
+    const DepthErrorModel& m = file.model;
+    const double head_change_mm = HeadAfterMedianMm(ctx, recording, camera, file) - full_head_mm;
+    max_c1_mm = std::max(max_c1_mm, std::abs(m.c1_mm - full.model.c1_mm));
+    max_head_mm = std::max(max_head_mm, std::abs(head_change_mm));
+    runs.push_back({{"left_out", "frame k with k % 10 == " + std::to_string(k)},
+                    {"C1_mm", m.c1_mm},
+                    {"C2", m.c2},
+                    {"C3_mm_per_rad", m.c3_mm},
+                    {"C4_mm", m.c4_mm},
+                    {"C1_change_mm", m.c1_mm - full.model.c1_mm},
+                    {"head_after_median_change_mm", head_change_mm}});
+  }
+  return {{"runs", runs},
+          {"max_C1_change_mm", max_c1_mm},
+          {"max_head_after_median_change_mm", max_head_mm},
+          {"acceptance",
+           DemoJson::array({Acceptance("max_C1_change_mm", max_c1_mm, "<=", kC1LimitMm)})}};
+}
+
+}  // namespace
+
 void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   const SessionFiles s = OpenSession(ctx);
   const SurfaceIndex skin(SkinIsoSurface(ReadVolume(ctx.session_dir / "ct.nrrd")));
@@ -159,6 +210,10 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
       {"frames_reference_rotation_smoothed", identified.frames_reference_rotation_smoothed},
       {"seconds", m.report.seconds}};
   stage["depth_model_json"] = "depth_model.json";
+  if (ctx.stability_subsets > 0) {
+    stage["stability"] =
+        IdentificationStability(ctx, *s.recording, s.camera, skin, options, identified.file);
+  }
 
   const DepthEvaluation e = EvaluateDepthAgainstTruth(
       *s.recording, s.camera, ctx.session_dir, *ctx.session, identified.file, ctx.depth_eval_frames,

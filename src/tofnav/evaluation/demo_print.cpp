@@ -98,6 +98,13 @@ void PrintDemoTables(const DemoJson& demo) {
                     Number(cyclic, "phase_rad"));
       }
     }
+    if (s.contains("stability")) {
+      std::printf(
+          "   stability: C1 moves by at most %.3f mm when a tenth of the frames is left out "
+          "(%zu subsets; issue 40's limit 0.1 mm), the head's corrected median by %.3f mm\n",
+          Number(s["stability"], "max_C1_change_mm"), s["stability"]["runs"].size(),
+          Number(s["stability"], "max_head_after_median_change_mm"));
+    }
     std::printf("   %-22s %9s %8s %6s %8s %6s %9s\n", "object", "pixels", "before", "IQR", "after",
                 "IQR", "reduction");
     for (const DemoJson& o : s.value("objects", DemoJson::array())) {

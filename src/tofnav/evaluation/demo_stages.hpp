@@ -34,6 +34,9 @@ struct DemoContext {
   std::int64_t session_frames = 300;     // patient session (identification, reconstruction, nav)
   std::int64_t session_slot_stride = 1;  // every n-th slot of the session's motion is rendered
   int depth_eval_frames = 24;            // frames of the depth evaluation (ray cast truth labels)
+  /// > 0: the depth stage identifies again this many times, each time without another tenth of
+  /// its frames (FrameLeaveOut subset k of 10), and reports how far C1 moves (issue 40 item 2).
+  int stability_subsets = 0;
   std::function<void(const std::string&, std::size_t, std::size_t)> progress;
   /// The hl2ss profile every simulated recording is written in (the stream the pipeline reads):
   /// SAME+RAW by default; H.264/H.265 at `bitrate_bps` (unset: the hl2ss client's default).

@@ -123,6 +123,12 @@ void AppendSubsetStarts(std::span<const IdentificationFrame> frames,
 
 }  // namespace
 
+void FrameLeaveOut::Check() const {
+  if (every < 2 || subset < 0 || subset >= every) {
+    throw std::invalid_argument("FrameLeaveOut: every must be >= 2 and 0 <= subset < every");
+  }
+}
+
 IdentifyRecordingResult IdentifyFromRecording(
     const AhatRecording& recording, const AhatCamera& camera,
     const std::optional<MarkerRangeModel>& marker_range, const SurfaceIndex* skin,
@@ -131,8 +137,19 @@ IdentifyRecordingResult IdentifyFromRecording(
   if (options.placement_subsets < 0 || options.placement_subsets == 1) {
     throw std::invalid_argument("IdentifyRecordingOptions: placement_subsets is 0 or at least 2");
   }
-  const std::vector<int> picked =
+  std::vector<int> picked =
       EvenSubsample(static_cast<int>(recording.frame_count()), options.max_frames);
+  if (options.leave_out) {
+    options.leave_out->Check();
+    std::vector<int> kept;
+    for (std::size_t k = 0; k < picked.size(); ++k) {
+      if (static_cast<int>(k % static_cast<std::size_t>(options.leave_out->every)) !=
+          options.leave_out->subset) {
+        kept.push_back(picked[k]);
+      }
+    }
+    picked = std::move(kept);
+  }
   IdentifyRecordingResult result;
   const MarkerRangeModel frf = marker_range.value_or(MarkerRangeModel{});
   std::optional<ToolTracker> tracker, reference;

@@ -25,8 +25,18 @@
 
 namespace tofnav {
 
+/// Frames left out of the evenly spread ones, to measure how much the result depends on which
+/// frames it saw (issue 40: 10 % left out, five subsets): the picked frame k is left out when
+/// k % every == subset.
+struct FrameLeaveOut {
+  int subset = 0;
+  int every = 10;
+  void Check() const;  // throws std::invalid_argument: every >= 2, 0 <= subset < every
+};
+
 struct IdentifyRecordingOptions {
-  int max_frames = 300;          // frames used, evenly spread over the recording
+  int max_frames = 300;                    // frames used, evenly spread over the recording
+  std::optional<FrameLeaveOut> leave_out;  // unset: every picked frame
   int cross_validate_folds = 0;  // >= 2: compare DefaultModelCandidates on held-out blocks
   /// Start values and variant (angle term, intensity, range term): the intensity form by
   /// default (docs/correction.md 2.1); a default-constructed DepthErrorModel is the paper's Eq. 3.
