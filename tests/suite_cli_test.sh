@@ -42,7 +42,7 @@ PY
 # The spread over seeds (issue 40): two runs of the case at seeds 5 + 100 + 0 and + 1, each in its
 # own folder, the per-case median and worst, and the page's spread table. A short run: the rows'
 # figures are checked above; here the bookkeeping.
-"$tofnav" evaluate suite smoke --seeds 2 --seed-offset 100 --frames-scale 0.05 \
+"$tofnav" evaluate suite smoke --seeds 2 --seed-offset 100 --frames-scale 0.05 --stability 1 \
   --out "$scratch/seeds" --json -q >"$scratch/seeds.json" || true
 /usr/bin/python3 - "$scratch/seeds.json" "$scratch/seeds" <<'PY'
 import json, os, sys
@@ -60,6 +60,12 @@ values = [r["tracking_mm"] for r in out["rows"] if r.get("tracking_mm") is not N
 if values:
     assert abs(s["tracking_mm"]["worst"] - max(values)) < 1e-12, (s, values)
 assert "Spread over seeds" in open(os.path.join(d, "suite.html")).read()
+# --stability 1: each row carries its depth stage's stability figures, and the spread their worst.
+for r in out["rows"]:
+    if r["ok"]:
+        assert r["stability_c1_mm"] >= 0.0 and r["stability_head_mm"] >= 0.0, r
+if all(r["ok"] for r in out["rows"]):
+    assert s["stability_c1_mm"]["worst"] == max(r["stability_c1_mm"] for r in out["rows"]), s
 print("suite --seeds 2:", {k: s[k] for k in ["cases", "cases_meeting_every_line"]})
 PY
 # A bad suite file: the file and the JSON path of the bad key.

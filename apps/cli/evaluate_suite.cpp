@@ -58,9 +58,9 @@ void PrintRow(const SuiteJson& row) {
 SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
   SuiteJson summary = SuiteJson::object();
   std::size_t refused = 0, failed = 0, all_met = 0;
-  for (const char* key :
-       {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm", "beyond_3mm_percent",
-        "true_tre_mm", "entry_mm", "angle_deg", "stream_mbit_s", "wall_s"}) {
+  for (const char* key : {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm",
+                          "beyond_3mm_percent", "true_tre_mm", "entry_mm", "angle_deg",
+                          "stream_mbit_s", "wall_s", "stability_c1_mm", "stability_head_mm"}) {
     std::vector<double> values;
     for (const SuiteJson& r : rows) {
       if (r.contains(key) && r.at(key).is_number() && !std::isnan(r.at(key).get<double>())) {
@@ -140,6 +140,7 @@ int RunEvaluateSuite(int argc, char** argv) {
   std::optional<double> frames_scale;  // unset: the suite's
   bool json = false, quiet = false;
   std::size_t seeds = 1;
+  int stability_subsets = 0;
   std::uint64_t seed_offset = 0;
   app.add_option("suite", suite_name, "suite file, or a built-in: default, smoke")->required();
   app.add_option("--out", out, "output folder: one folder per case, suite.json, suite.html");
@@ -152,6 +153,10 @@ int RunEvaluateSuite(int argc, char** argv) {
       ->check(CLI::Range(1, 1000));
   app.add_option("--seed-offset", seed_offset,
                  "added to every case's seed: a seed set nobody has looked at (e.g. the date)");
+  app.add_option("--stability", stability_subsets,
+                 "per case, identify again N times (0-10) without another tenth of the frames: "
+                 "the largest C1 and head-median changes (docs/correction.md 2.4)")
+      ->check(CLI::Range(0, 10));
   app.add_flag("--json", json, "print suite.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no per-case progress lines on stderr");
   std::string profile = "raw";
@@ -189,7 +194,8 @@ int RunEvaluateSuite(int argc, char** argv) {
       if (!quiet) std::cerr << "suite: " << label << " (" << index << ") ..." << std::endl;
       const std::filesystem::path dir =
           several ? out / c.name / ("seed" + std::to_string(run.seed)) : out / c.name;
-      SuiteJson row = RunSuiteCase(run, scale, dir, true, stream_profile, bitrate_bps);
+      SuiteJson row =
+          RunSuiteCase(run, scale, dir, true, stream_profile, bitrate_bps, stability_subsets);
       row["name"] = label;
       row["case"] = c.name;
       row["seed"] = run.seed;

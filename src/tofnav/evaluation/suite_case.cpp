@@ -118,7 +118,7 @@ std::string RegistrationDecision(const SuiteJson& stage) {
 
 SuiteJson RunSuiteCase(const SuiteCase& c, double frames_scale, const std::filesystem::path& dir,
                        bool quiet, const Hl2ssStreamProfile& stream_profile,
-                       std::optional<std::uint32_t> bitrate_bps) {
+                       std::optional<std::uint32_t> bitrate_bps, int stability_subsets) {
   const auto start = std::chrono::steady_clock::now();
   SuiteJson row{{"name", c.name}, {"ok", true}, {"error", ""}};
   std::filesystem::create_directories(dir);
@@ -128,6 +128,7 @@ SuiteJson RunSuiteCase(const SuiteCase& c, double frames_scale, const std::files
   ctx.quiet = quiet;
   ctx.stream_profile = stream_profile;
   ctx.bitrate_bps = bitrate_bps;
+  ctx.stability_subsets = stability_subsets;
   ctx.progress = [](const std::string&, std::size_t, std::size_t) {};
   ScaleDemoFrames(ctx, frames_scale);
   try {
@@ -154,6 +155,10 @@ SuiteJson RunSuiteCase(const SuiteCase& c, double frames_scale, const std::files
     row["stream_mbit_s"] = Num(At(stages, "session"), "stream_mbit_s");
     TrackingFigures(At(stages, "tracking"), row);
     row["depth_after_mm"] = HeadDepthAfterMm(At(stages, "depth"));
+    if (const SuiteJson& stability = At(At(stages, "depth"), "stability"); stability.is_object()) {
+      row["stability_c1_mm"] = Num(stability, "max_C1_change_mm");
+      row["stability_head_mm"] = Num(stability, "max_head_after_median_change_mm");
+    }
     const SuiteJson& rec = At(stages, "reconstruction");
     row["reconstruction_mm"] = Num(rec, "median_mm");
     row["beyond_3mm_percent"] = Num(rec, "beyond_3mm_percent");

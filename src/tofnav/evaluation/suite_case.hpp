@@ -43,12 +43,12 @@ SuiteFile ReadSuiteFile(const std::filesystem::path& path);
 /// stages, docs/demo.md) and returns its row: {"name", "ok", "error", figures..., "stages"}.
 /// `progress` gets a label and a fraction for each step.
 /// The recordings are written in `stream_profile` at `bitrate_bps` (unset: the hl2ss client's
-/// default).
-SuiteJson RunSuiteCase(const SuiteCase& c, double frames_scale, const std::filesystem::path& dir,
-                       bool quiet,
-                       const Hl2ssStreamProfile& stream_profile = {Hl2ssDepthProfile::kSame,
-                                                                   Hl2ssVideoProfile::kRaw},
-                       std::optional<std::uint32_t> bitrate_bps = std::nullopt);
+/// default). `stability_subsets` > 0: the depth stage's stability check (DemoContext), whose
+/// largest C1 and head-median changes go in the row as stability_c1_mm and stability_head_mm.
+SuiteJson RunSuiteCase(
+    const SuiteCase& c, double frames_scale, const std::filesystem::path& dir, bool quiet,
+    const Hl2ssStreamProfile& stream_profile = {Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kRaw},
+    std::optional<std::uint32_t> bitrate_bps = std::nullopt, int stability_subsets = 0);
 
 /// The acceptance lines of the outlier-proof pipeline (docs/suite.md) for one row: each
 /// {figure, value, op, limit, met}.
