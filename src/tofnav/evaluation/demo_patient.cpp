@@ -129,9 +129,9 @@ double HeadAfterMedianMm(const DemoContext& ctx, const AhatRecording& recording,
 // head's corrected depth moves with them (C1, C3 and C4 trade off: docs/correction.md 2.4).
 DemoJson IdentificationStability(const DemoContext& ctx, const AhatRecording& recording,
                                  const AhatCamera& camera, const SurfaceIndex& skin,
-                                 IdentifyRecordingOptions options, const DepthModelFile& full) {
+                                 IdentifyRecordingOptions options, const DepthModelFile& full,
+                                 double full_head_mm) {
   constexpr double kC1LimitMm = 0.1;  // issue 40 item 2
-  const double full_head_mm = HeadAfterMedianMm(ctx, recording, camera, full);
   DemoJson runs = DemoJson::array();
   double max_c1_mm = 0.0, max_head_mm = 0.0;
   for (int k = 0; k < ctx.stability_subsets; ++k) {
@@ -210,10 +210,6 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
       {"frames_reference_rotation_smoothed", identified.frames_reference_rotation_smoothed},
       {"seconds", m.report.seconds}};
   stage["depth_model_json"] = "depth_model.json";
-  if (ctx.stability_subsets > 0) {
-    stage["stability"] =
-        IdentificationStability(ctx, *s.recording, s.camera, skin, options, identified.file);
-  }
 
   const DepthEvaluation e = EvaluateDepthAgainstTruth(
       *s.recording, s.camera, ctx.session_dir, *ctx.session, identified.file, ctx.depth_eval_frames,
@@ -235,6 +231,10 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
                                 {"target", o.name == head}});
   }
   Require(head_error != nullptr, "no head pixel was evaluated");
+  if (ctx.stability_subsets > 0) {
+    stage["stability"] = IdentificationStability(ctx, *s.recording, s.camera, skin, options,
+                                                 identified.file, head_error->after_mm->median);
+  }
   const double lo = std::floor(std::min(Quantile(head_error->before_errors_mm, 0.005),
                                         Quantile(head_error->after_errors_mm, 0.005)));
   const double hi = std::ceil(std::max(Quantile(head_error->before_errors_mm, 0.995),

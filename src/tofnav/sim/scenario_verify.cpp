@@ -20,12 +20,11 @@ constexpr double kVerifyWanderPeriodS = 12.0;  // evd-usecase: 8
 constexpr double kRodUpWeight = 1.0;           // the rod leans up (superior) ...
 constexpr double kRodForwardWeight = 0.4;      // ... and forward (anterior) from the skin normal
 
-int VerifyMountNamed(const Scenario& s, const char* name) {
-  for (std::size_t i = 0; i < s.mounts.size(); ++i) {
-    if (s.mounts[i].name == name) return static_cast<int>(i);
-  }
-  Require(false, std::string("verify-landmarks: the scenario has no mount '") + name + "'");
-  return -1;
+// The mount `name` of evd-usecase that this scenario re-uses (Scenario::FindMount, required).
+Mount& VerifyMount(Scenario& s, const char* name) {
+  const int index = s.FindMount(name);
+  Require(index >= 0, std::string("verify-landmarks: the scenario has no mount '") + name + "'");
+  return s.mounts[static_cast<std::size_t>(index)];
 }
 
 // mount_from_tool of the pointer with its tip at `point` and its rod (tool +y, from the tip to
@@ -63,13 +62,11 @@ Scenario VerifyLandmarksScenario(Scenario s, const PatientHead& head) {
       "evd-usecase's patient and headframe; a pointer rests 1.6 s on each of four skin landmarks "
       "(nasion, lateral canthi, forehead) in turn while a wandering headset looks on, 568 frames "
       "(tofnav verify)";
-  const Rigid3d world_from_mount =
-      s.mounts[static_cast<std::size_t>(VerifyMountNamed(s, "headframe"))].motion.start;
+  const Rigid3d world_from_mount = VerifyMount(s, "headframe").motion.start;
   const Eigen::Vector3d centre = head.anatomy.centre_in_image;
   // Out of view behind the wearer, as evd-usecase parks its occluders.
   const Rigid3d parked(Eigen::Quaterniond::Identity(), Eigen::Vector3d(0.0, 2500.0, 2500.0));
-  s.mounts[static_cast<std::size_t>(VerifyMountNamed(s, "hand_motion"))].motion =
-      StaticMotion(parked);
+  VerifyMount(s, "hand_motion").motion = StaticMotion(parked);
 
   const Eigen::Vector3d tip_in_tool = InstrumentTipInTool(InstrumentOptions{});
   const Eigen::Vector3d up(0.0, 0.0, 1.0), anterior(0.0, -1.0, 0.0);
@@ -105,8 +102,7 @@ Scenario VerifyLandmarksScenario(Scenario s, const PatientHead& head) {
   HeadWornMotion& wander = s.camera.motion.head_worn;
   wander.azimuth_span_rad = kVerifyAzimuthSpanRad;
   wander.period_s = kVerifyWanderPeriodS;
-  s.mounts[static_cast<std::size_t>(VerifyMountNamed(s, "instrument_motion"))].motion =
-      KeyframeMotion(std::move(keyframes));
+  VerifyMount(s, "instrument_motion").motion = KeyframeMotion(std::move(keyframes));
   s.frames = slot + kVerifyFirstSlot;
   return s;
 }

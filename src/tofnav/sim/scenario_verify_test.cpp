@@ -12,10 +12,7 @@ namespace {
 constexpr double kRateHz = 45.0;
 
 const Mount& Named(const Scenario& s, const std::string& name) {
-  for (const Mount& m : s.mounts) {
-    if (m.name == name) return m;
-  }
-  throw std::runtime_error("no mount " + name);
+  return s.mounts.at(static_cast<std::size_t>(s.FindMount(name)));
 }
 
 TEST(VerifyLandmarksScenario, ThePointersTipRestsOnEachLandmarkOnTheSkin) {
