@@ -36,6 +36,10 @@ expect_failure "not an AHAT recording" convert "$scratch/random.bin" "$scratch/o
 expect_failure "$scratch/missing.nrrd" skin "$scratch/missing.nrrd" --out "$scratch/skin.ply"
 expect_failure "--fiducials TOOL IMAGE" register --out "$scratch/t.json"
 expect_failure "short.ply" register "$scratch/short.ply" "$scratch/short.ply" --out "$scratch/t.json"
+expect_failure "tofnav register: error: --method paper: the paper's ICP starts from the user's coarse placement in 3D Slicer; give it as --guess T (a tool_from_image transform file)" \
+  register "$scratch/short.ply" "$scratch/short.ply" --out "$scratch/t.json" --method paper
+expect_failure "--method: Paper not in {tofnav,paper}" reconstruct "$scratch/random.bin" \
+  --calibration "$scratch" --tool "$scratch/t.json" --out "$scratch/s.ply" --method Paper
 printf '{"markups":[{"type":"Line"}]}' >"$scratch/plan.mrk.json"
 expect_failure "exactly 2 defined control points" register "$scratch/short.ply" "$scratch/short.ply" \
   --out "$scratch/t.json" --plan "$scratch/plan.mrk.json"

@@ -12,7 +12,7 @@ trap 'rm -rf "$scratch"' EXIT
 # multipath on (the demo's default) the demo misses several lines today (docs/demo.md); the
 # outlier-proof pipeline (issue 16) is measured by the robustness suite (tests/suite_cli_test.sh).
 "$tofnav" demo --out "$scratch/demo" --head phantom --frames-scale 0.35 --multipath-gain 0 \
-  --stability 1 --json >"$scratch/stdout.json"
+  --stability 1 --method both --json >"$scratch/stdout.json"
 /usr/bin/python3 - "$scratch/stdout.json" "$scratch/demo" <<'PY'
 import json, os, sys
 out = json.load(open(sys.argv[1]))  # stdout must be exactly one JSON object
@@ -60,6 +60,21 @@ for t in s["tracking"]["tools"]:
 g = s["guidance"]
 assert g["entry_median_mm"] <= ENTRY_MM and g["angle_median_deg"] <= ANGLE_DEG, g
 assert len(g["trajectories"]) == 9, g
+# --method both: the paper's method on the same session (issue 38 item 1, docs/paper_method.md).
+pm = out["paper_method"]["stages"]
+assert sorted(pm) == ["depth", "guidance", "reconstruction", "registration", "tracking"], sorted(pm)
+for name, stage in pm.items():
+    assert stage["ok"], (name, stage["error"])
+    for key, value in stage.items():  # its artefacts lie under paper_method/
+        if isinstance(value, str) and key.endswith(("_ply", "_csv", "_json")):
+            assert os.path.isfile(os.path.join(d, "paper_method", value)), (name, key, value)
+m = pm["depth"]["model"]
+assert m["C4_mm"] == 0.0 and m["cyclic_error"]["amplitude_mm"] == 0.0, m  # Eq. 3 alone
+assert not m["multipath_removed"] and m["tool_marker_observations_left_out"] == 0, m
+# The hand placement: 5 mm at the skin's centroid and 5 deg about it; the targets lie within
+# ~60 mm of it, so the start is 5 +- 5.3 mm off there (sin 5 deg x 60 mm).
+assert 0.0 < pm["registration"]["start_tre_mm"] <= 10.3, pm["registration"]
+assert pm["registration"]["accepted"], pm["registration"]  # the paper refuses nothing
 print(f"demo ok in {out['elapsed_s']:.1f} s: f_rf bias {s['marker_error']['bias_after_max_abs_mm']:.3f} mm, "
       f"head {head[0]['after_median_mm']:.3f} mm ({head[0]['reduction_percent']:.1f} %), "
       f"reconstruction {s['reconstruction']['median_mm']:.3f} mm, TRE {s['registration']['tre_mm']:.3f} mm, "

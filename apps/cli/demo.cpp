@@ -58,12 +58,19 @@ int RunDemo(int argc, char** argv) {
                  "identify again N times (0-10), each without another tenth of the frames, and "
                  "report how far C1 moves (issue 40; about 25 s each)")
       ->check(CLI::Range(0, 10));
+  std::string method = "tofnav";
+  app.add_option("--method", method,
+                 "tofnav, paper (the paper's method as published, docs/paper_method.md) or both "
+                 "(tofnav's, then the paper's on the same session: the tables' third column; "
+                 "about a minute more)")
+      ->check(CLI::IsMember({"tofnav", "paper", "both"}));
   app.add_flag("--json", json, "print demo.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");
   TOFNAV_PARSE(app, argc, argv);
 
   DemoContext ctx;
   ctx.stability_subsets = stability_subsets;
+  ctx.method = method == "paper" ? Method::kPaper : Method::kTofnav;
   ctx.out = out;
   ctx.seed = seed;
   ctx.quiet = quiet || json;
@@ -96,6 +103,7 @@ int RunDemo(int argc, char** argv) {
                 {"seed", seed},
                 {"frames_scale", frames_scale},
                 {"multipath_gain", multipath_gain},
+                {"method", method},
                 {"elapsed_s", 0.0},
                 {"stages", DemoJson::object()}};
   demo["stages"] = RunDemoStages(ctx, [&] {
@@ -105,6 +113,12 @@ int RunDemo(int argc, char** argv) {
   bool all_ok = true;
   for (const auto& [name, stage] : demo["stages"].items())
     all_ok = all_ok && stage["ok"].get<bool>();
+  if (method == "both") {  // the paper's method on the same session; its failures are figures
+    demo["paper_method"] = {{"stages", RunDemoPaperMethod(ctx, [&] {
+                               bar.reset();
+                               bar_label.clear();
+                             })}};
+  }
   demo["elapsed_s"] =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   demo["paper"] = PaperFigures();

@@ -14,6 +14,7 @@
 
 #include "config_json.hpp"
 #include "evaluate.hpp"
+#include "method_option.hpp"
 #include "profile_option.hpp"
 #include "tofnav/core/statistics.hpp"
 #include "tofnav/evaluation/suite_case.hpp"
@@ -162,6 +163,8 @@ int RunEvaluateSuite(int argc, char** argv) {
   std::string profile = "raw";
   std::optional<std::uint32_t> bitrate_bps;
   AddProfileOptions(app, profile, bitrate_bps);
+  SuiteRunOptions run_options;
+  AddMethodOption(app, run_options.method);
   TOFNAV_PARSE(app, argc, argv);
   const Hl2ssStreamProfile stream_profile = *ParseHl2ssStreamProfile(profile);
   const std::filesystem::path path = SuitePath(suite_name);
@@ -194,8 +197,11 @@ int RunEvaluateSuite(int argc, char** argv) {
       if (!quiet) std::cerr << "suite: " << label << " (" << index << ") ..." << std::endl;
       const std::filesystem::path dir =
           several ? out / c.name / ("seed" + std::to_string(run.seed)) : out / c.name;
-      SuiteJson row =
-          RunSuiteCase(run, scale, dir, true, stream_profile, bitrate_bps, stability_subsets);
+      run_options.frames_scale = scale;
+      run_options.stream_profile = stream_profile;
+      run_options.bitrate_bps = bitrate_bps;
+      run_options.stability_subsets = stability_subsets;
+      SuiteJson row = RunSuiteCase(run, dir, run_options);
       row["name"] = label;
       row["case"] = c.name;
       row["seed"] = run.seed;

@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "config_json.hpp"
 #include "head_region_option.hpp"
+#include "method_option.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/depth_model_json.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
@@ -72,6 +73,8 @@ int RunIdentify(int argc, char** argv) {
   bool quiet = false, json = false;
   IdentificationSampling sampling;
   IdentificationOptions options;
+  Method method = Method::kTofnav;
+  AddMethodOption(app, method);
   app.add_option("recording", recording_path, "AHAT recording (hl2ss .bin or StreamRecorder)")
       ->required();
   app.add_option("--calibration", calibration_path, "hl2ss calibration folder")->required();
@@ -213,6 +216,7 @@ int RunIdentify(int argc, char** argv) {
   identify.min_reference_markers = min_reference_markers;
   identify.placement_subsets = placement_subsets;
   identify.smooth_reference_rotation = !raw_reference_rotation;
+  if (method == Method::kPaper) UsePaperIdentification(identify);
   ProgressBar progress("identify: frames", quiet || json);
   const IdentifyRecordingResult result = IdentifyFromRecording(
       *recording, camera, frf, skin ? &*skin : nullptr, identify,

@@ -14,6 +14,7 @@
 #include "commands.hpp"
 #include "config_json.hpp"
 #include "head_region_option.hpp"
+#include "method_option.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/depth_model_json.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
@@ -50,6 +51,8 @@ int RunReconstruct(int argc, char** argv) {
   bool quiet = false, json = false, all_components = false;
   std::optional<std::size_t> max_frames;
   ReconstructOptions options;
+  Method method = Method::kTofnav;
+  AddMethodOption(app, method);
   CorrectRangeOptions correct;
   double max_incidence_deg = 90.0;
   const std::map<std::string, TsdfWeighting> weightings = {
@@ -153,6 +156,8 @@ int RunReconstruct(int argc, char** argv) {
   const AhatRecording& recording = *opened.recording;
   RefuseLossyDepth(recording, recording_path, allow_lossy_depth);
   const AhatCamera& camera = *opened.camera;
+  // Before UseDepthModel, which hands the head region on to the range correction.
+  if (method == Method::kPaper) UsePaperReconstruction(options);
   bool multipath_removed = false;  // the depth model says (docs/correction.md 7)
   if (!depth_model_path.empty()) {
     correct.max_incidence_rad = max_incidence_deg * std::numbers::pi / 180.0;

@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "config_json.hpp"
+#include "method_option.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/markups_read.hpp"
 #include "tofnav/casefile/transform_io.hpp"
@@ -119,6 +120,8 @@ int RunRegister(int argc, char** argv) {
   bool skin_ras = false, force = false, quiet = false, json = false;
   double max_fre_mm = 2.0;
   RegisterSurfaceOptions options;
+  Method method = Method::kTofnav;
+  AddMethodOption(app, method);
   RegistrationThresholds& t = options.thresholds;
   app.add_option("reconstruction", reconstruction_path,
                  "reconstructed head surface in tool (.ply)");
@@ -160,6 +163,14 @@ int RunRegister(int argc, char** argv) {
                                          : RobustLoss::kHuber;
 
   const bool surfaces = !reconstruction_path.empty() && !skin_path.empty();
+  if (method == Method::kPaper) {
+    if (surfaces && guess_path.empty() && fiducials.empty()) {
+      throw std::runtime_error(
+          "--method paper: the paper's ICP starts from the user's coarse placement in 3D Slicer; "
+          "give it as --guess T (a tool_from_image transform file)");
+    }
+    UsePaperRegistration(options);
+  }
   if (!surfaces && fiducials.empty()) {
     throw std::runtime_error("give <reconstruction.ply> <skin.ply>, or --fiducials TOOL IMAGE");
   }

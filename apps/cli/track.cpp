@@ -12,6 +12,7 @@
 #include "commands.hpp"
 #include "config_json.hpp"
 #include "marker_source.hpp"
+#include "method_option.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/casefile/tool_json.hpp"
@@ -94,6 +95,8 @@ int RunTrack(int argc, char** argv) {
   std::filesystem::path marker_error_path, out_path;
   bool no_filter = false, ahat_filter = false, quiet = false, json = false;
   ToolTrackerOptions options;
+  Method method = Method::kTofnav;
+  AddMethodOption(app, method);
   source_args.AddTo(app);
   app.add_option("--tool", tool_paths, "tool file (tool JSON or NDI .rom); repeat per tool")
       ->required();
@@ -124,6 +127,7 @@ int RunTrack(int argc, char** argv) {
   if (!marker_error_path.empty()) model = ReadMarkerRangeJson(marker_error_path).model;
   options.filter_enabled = !no_filter;
   options.rotation_in_world = !ahat_filter;
+  if (method == Method::kPaper) UsePaperTracking(options);
   options.pose.refuse_void_poses = !keep_void_poses;
   const MarkerSource source = OpenMarkerSource(source_args);
   ProgressBar progress("track", quiet || json);
@@ -147,7 +151,7 @@ int RunTrack(int argc, char** argv) {
                                  {"out", out_path.string()},
                                  {"frames", source.frames},
                                  {"marker_error", !model.empty()},
-                                 {"filter", !no_filter},
+                                 {"filter", options.filter_enabled},
                                  {"elapsed_s", elapsed_s},
                                  {"dropped_blobs", nlohmann::ordered_json::object()},
                                  {"tools", nlohmann::ordered_json::array()}};

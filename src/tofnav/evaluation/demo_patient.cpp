@@ -185,6 +185,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
     // with N its phase steps: a property of the device, as K is (docs/correction.md 2.2).
     options.identification.fit_cyclic_period_mm = ctx.session->render.sensor.wiggle_period_mm;
   }
+  if (ctx.method == Method::kPaper) UsePaperIdentification(options);
   const IdentifyRecordingResult identified =
       IdentifyFromRecording(*s.recording, s.camera, ctx.frf, &skin, options,
                             [&](std::size_t d, std::size_t t) { ctx.progress("identify", d, t); });
@@ -250,6 +251,8 @@ void RunDemoReconstruction(DemoContext& ctx, DemoJson& stage) {
   const SessionFiles s = OpenSession(ctx);
   const ToolGeometry tool = ReadToolJson(ctx.session_dir / "tools" / "headframe.json");
   ReconstructOptions options;
+  // Before UseDepthModel, which hands the head region on to the range correction.
+  if (ctx.method == Method::kPaper) UsePaperReconstruction(options);
   if (ctx.depth_model) {
     UseDepthModel(*ctx.depth_model, options);
   } else if (ctx.frf) {

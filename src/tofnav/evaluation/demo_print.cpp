@@ -31,6 +31,24 @@ void PrintAcceptance(const DemoJson& s) {
   }
 }
 
+// The paper's method on the same session (demo --method both): its stage, or null.
+const DemoJson* PaperMethodStage(const DemoJson& demo, const char* stage) {
+  if (!demo.contains("paper_method")) return nullptr;
+  const DemoJson& s = demo["paper_method"]["stages"];
+  return s.contains(stage) ? &s[stage] : nullptr;
+}
+
+// "   paper's method (our data): FAILED: ..." and false when the stage failed or did not run.
+bool PaperMethodHeading(const DemoJson* s) {
+  if (s == nullptr) return false;
+  if (s->value("ok", false)) return true;
+  std::printf("   paper's method, our data: FAILED: %s\n", s->value("error", "").c_str());
+  return false;
+}
+
+// tofnav's figure over the paper method's (below 1: tofnav's error is smaller).
+double Ratio(double ours, double theirs) { return theirs != 0.0 ? ours / theirs : std::nan(""); }
+
 }  // namespace
 
 DemoJson PaperFigures() {
@@ -126,6 +144,22 @@ void PrintDemoTables(const DemoJson& demo) {
         Number(p, "after_median_mm"), Number(p, "after_iqr_mm"), Number(p, "reduction_percent"),
         Number(p["photopolymer"], "before_median_mm"), Number(p["photopolymer"], "after_median_mm"),
         Number(p["photopolymer"], "reduction_percent"));
+    if (const DemoJson* m = PaperMethodStage(demo, "depth"); PaperMethodHeading(m)) {
+      for (const DemoJson& o : m->value("objects", DemoJson::array())) {
+        if (!o.value("target", false)) continue;
+        double ours = std::nan("");
+        for (const DemoJson& t : s.value("objects", DemoJson::array()))
+          if (t.value("target", false)) ours = Number(t, "after_median_mm");
+        std::printf(
+            "   %-22s %9s %8.2f %6.2f %8.2f %6.2f %8.1f%%  (C1 %.3f mm, C2 %.5f, C3 %.3f mm/rad; "
+            "|after| tofnav / paper's method %.2f)\n",
+            "paper's method, ours", "", Number(o, "before_median_mm"), Number(o, "before_iqr_mm"),
+            Number(o, "after_median_mm"), Number(o, "after_iqr_mm"), Number(o, "reduction_percent"),
+            Number((*m)["model"], "C1_mm"), Number((*m)["model"], "C2"),
+            Number((*m)["model"], "C3_mm_per_rad"),
+            Ratio(std::abs(ours), std::abs(Number(o, "after_median_mm"))));
+      }
+    }
     PrintAcceptance(s);
   }
   if (Heading(demo, "reconstruction", "reconstruction error [mm] vs the true skin (Table II)")) {
@@ -139,6 +173,14 @@ void PrintDemoTables(const DemoJson& demo) {
         Number(p, "median_mm"), Number(p, "iqr_mm"), Number(p["photopolymer"], "median_mm"),
         Number(p["photopolymer"], "iqr_mm"), Number(p["sheep_head"], "median_mm"),
         Number(p["sheep_head"], "iqr_mm"));
+    if (const DemoJson* m = PaperMethodStage(demo, "reconstruction"); PaperMethodHeading(m)) {
+      std::printf(
+          "   paper's method, our data: head median %.3f, IQR %.3f, p95 %.3f, %.2f %% beyond 3 mm "
+          "(%d frames fused; median tofnav / paper's method %.2f)\n",
+          Number(*m, "median_mm"), Number(*m, "iqr_mm"), Number(*m, "p95_mm"),
+          Number(*m, "beyond_3mm_percent"), m->value("frames_fused", 0),
+          Ratio(Number(s, "median_mm"), Number(*m, "median_mm")));
+    }
     PrintAcceptance(s);
   }
   if (Heading(demo, "registration", "registration of the CT skin (true TRE at the targets)")) {
@@ -149,6 +191,15 @@ void PrintDemoTables(const DemoJson& demo) {
         s.value("accepted", false) ? "accepted" : "REFUSED", Number(s, "rmse_mm"),
         Number(s, "inlier_fraction"), Number(s, "tre_mm"), Number(s, "tre_max_mm"),
         Number(s, "rotation_error_deg"), Number(s, "translation_error_mm"));
+    if (const DemoJson* m = PaperMethodStage(demo, "registration"); PaperMethodHeading(m)) {
+      std::printf(
+          "   paper's method, our data: ICP from a hand placement %.2f mm off at the targets: "
+          "RMSE %.3f mm; TRE mean %.3f max %.3f mm; rotation %.3f deg (TRE tofnav / paper's "
+          "method %.2f)\n",
+          Number(*m, "start_tre_mm"), Number(*m, "rmse_mm"), Number(*m, "tre_mm"),
+          Number(*m, "tre_max_mm"), Number(*m, "rotation_error_deg"),
+          Ratio(Number(s, "tre_mm"), Number(*m, "tre_mm")));
+    }
     PrintAcceptance(s);
   }
   if (Heading(demo, "tracking", "tool tracking with f_rf")) {
@@ -161,6 +212,15 @@ void PrintDemoTables(const DemoJson& demo) {
                   Number(t, "tracked_percent"), Number(t, "position_rms_mm"),
                   Number(t, "rotation_rms_deg"), Number(t, "filtered_position_rms_mm"),
                   Number(t, "filtered_rotation_rms_deg"), t["wrong_identities"].get<int>());
+    }
+    if (const DemoJson* m = PaperMethodStage(demo, "tracking"); PaperMethodHeading(m)) {
+      std::printf("   paper's method, our data (no pose filter: its output is the raw pose):\n");
+      for (const DemoJson& t : m->value("tools", DemoJson::array())) {
+        std::printf("   %-16s %6d %7.1f%% %10.3f / %8.3f %10s   %8s %6d\n",
+                    t["name"].get<std::string>().c_str(), t["frames"].get<int>(),
+                    Number(t, "tracked_percent"), Number(t, "position_rms_mm"),
+                    Number(t, "rotation_rms_deg"), "", "", t["wrong_identities"].get<int>());
+      }
     }
     std::printf("   paper: %s\n", paper["tracking"]["note"].get<std::string>().c_str());
     PrintAcceptance(s);
@@ -178,6 +238,15 @@ void PrintDemoTables(const DemoJson& demo) {
         "included)\n",
         Number(p, "entry_median_mm"), Number(p, "entry_sd_mm"), Number(p, "angle_median_deg"),
         Number(p, "angle_sd_deg"));
+    if (const DemoJson* m = PaperMethodStage(demo, "guidance"); PaperMethodHeading(m)) {
+      std::printf(
+          "   paper's method, our data: entry median %.3f mm (p95 %.3f), angle median %.3f deg "
+          "(p95 %.3f); tofnav / paper's method %.2f and %.2f\n",
+          Number(*m, "entry_median_mm"), Number(*m, "entry_p95_mm"), Number(*m, "angle_median_deg"),
+          Number(*m, "angle_p95_deg"),
+          Ratio(Number(s, "entry_median_mm"), Number(*m, "entry_median_mm")),
+          Ratio(Number(s, "angle_median_deg"), Number(*m, "angle_median_deg")));
+    }
     PrintAcceptance(s);
   }
   // Where the run spent its time (also demo.json: stages.<name>.elapsed_s and elapsed_s).
@@ -188,6 +257,13 @@ void PrintDemoTables(const DemoJson& demo) {
     if (!stage.contains("elapsed_s")) continue;
     stages_s += Number(stage, "elapsed_s");
     std::printf(" %s %.1f s,", name.c_str(), Number(stage, "elapsed_s"));
+  }
+  if (demo.contains("paper_method")) {
+    double paper_s = 0.0;
+    for (const auto& [name, stage] : demo["paper_method"]["stages"].items())
+      paper_s += Number(stage, "elapsed_s");
+    stages_s += paper_s;
+    std::printf(" the paper's method %.1f s,", paper_s);
   }
   std::printf(" the rest (the head, the report) %.1f s\n", total_s - stages_s);
 }

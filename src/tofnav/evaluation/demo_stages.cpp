@@ -33,19 +33,28 @@ void ScaleDemoFrames(DemoContext& ctx, double scale) {
   ctx.depth_eval_frames = static_cast<int>(scaled(24.0, 6.0));
 }
 
-DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stage) {
-  const struct {
-    const char* name;
-    void (*run)(DemoContext&, DemoJson&);
-  } stages[] = {{"marker_error", RunDemoMarkerError},
-                {"session", RunDemoSession},
-                {"depth", RunDemoDepth},
-                {"reconstruction", RunDemoReconstruction},
-                {"registration", RunDemoRegistration},
-                {"tracking", RunDemoTracking},
-                {"guidance", RunDemoGuidance}};
+namespace {
+
+struct DemoStage {
+  const char* name;
+  void (*run)(DemoContext&, DemoJson&);
+};
+constexpr DemoStage kDemoStages[] = {{"marker_error", RunDemoMarkerError},
+                                     {"session", RunDemoSession},
+                                     {"depth", RunDemoDepth},
+                                     {"reconstruction", RunDemoReconstruction},
+                                     {"registration", RunDemoRegistration},
+                                     {"tracking", RunDemoTracking},
+                                     {"guidance", RunDemoGuidance}};
+
+// The stages from `first` on, in order (a failed stage is recorded and the next ones run).
+DemoJson RunStagesFrom(DemoContext& ctx, std::string_view first,
+                       const std::function<void()>& after_stage) {
   DemoJson all = DemoJson::object();
-  for (const auto& s : stages) {
+  bool started = false;
+  for (const DemoStage& s : kDemoStages) {
+    started = started || first == s.name;
+    if (!started) continue;
     DemoJson stage{{"ok", true}, {"error", ""}, {"elapsed_s", 0.0}};
     const auto stage_start = std::chrono::steady_clock::now();
     try {
@@ -62,13 +71,32 @@ DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stag
         std::chrono::duration<double>(std::chrono::steady_clock::now() - stage_start).count();
     all[s.name] = stage;
     if (!ctx.quiet && ::isatty(STDERR_FILENO) == 1) {  // a line per stage on a terminal
-      std::cerr << "demo: " << s.name << (stage["ok"].get<bool>() ? " ok" : " FAILED") << " ("
+      std::cerr << "demo: " << (ctx.method == Method::kPaper ? "paper's method, " : "") << s.name
+                << (stage["ok"].get<bool>() ? " ok" : " FAILED") << " ("
                 << stage["elapsed_s"].get<double>() << " s)"
                 << (stage["ok"].get<bool>() ? "" : ": " + stage["error"].get<std::string>())
                 << "\n";
     }
   }
   return all;
+}
+
+}  // namespace
+
+DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stage) {
+  return RunStagesFrom(ctx, kDemoStages[0].name, after_stage);
+}
+
+DemoJson RunDemoPaperMethod(const DemoContext& ctx, const std::function<void()>& after_stage) {
+  DemoContext paper = ctx;
+  paper.method = Method::kPaper;
+  paper.out = ctx.out / "paper_method";
+  paper.stability_subsets = 0;
+  paper.depth_model.reset();
+  paper.surface.reset();
+  paper.tool_from_image.reset();
+  std::filesystem::create_directories(paper.out);
+  return RunStagesFrom(paper, "depth", after_stage);
 }
 
 }  // namespace tofnav

@@ -13,6 +13,7 @@
 #include "tofnav/core/rigid3d.hpp"
 #include "tofnav/core/triangle_mesh.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/pipeline/paper_method.hpp"
 #include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
@@ -37,6 +38,9 @@ struct DemoContext {
   /// > 0: the depth stage identifies again this many times, each time without another tenth of
   /// its frames (FrameLeaveOut subset k of 10), and reports how far C1 moves (issue 40 item 2).
   int stability_subsets = 0;
+  /// The method of the stages after the session: tofnav's, or the paper's as published
+  /// (pipeline/paper_method.hpp; its registration starts from a seeded hand placement).
+  Method method = Method::kTofnav;
   std::function<void(const std::string&, std::size_t, std::size_t)> progress;
   /// The hl2ss profile every simulated recording is written in (the stream the pipeline reads):
   /// SAME+RAW by default; H.264/H.265 at `bitrate_bps` (unset: the hl2ss client's default).
@@ -81,6 +85,11 @@ void ScaleDemoFrames(DemoContext& ctx, double scale);
 /// have): {"name": {"ok", "error", "elapsed_s", figures...}, ...}. The head is loaded first
 /// when ctx.patient_head is unset.
 DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stage = {});
+
+/// The stages after the session again, on the same session, with the paper's method as
+/// published: a copy of `ctx` (after RunDemoStages) with method kPaper writing under
+/// ctx.out / "paper_method". The same object as RunDemoStages, for those stages.
+DemoJson RunDemoPaperMethod(const DemoContext& ctx, const std::function<void()>& after_stage = {});
 
 /// The paper's reference figures (demo.json "paper"), keys as the stages' where comparable.
 DemoJson PaperFigures();

@@ -116,21 +116,22 @@ std::string RegistrationDecision(const SuiteJson& stage) {
 
 }  // namespace
 
-SuiteJson RunSuiteCase(const SuiteCase& c, double frames_scale, const std::filesystem::path& dir,
-                       bool quiet, const Hl2ssStreamProfile& stream_profile,
-                       std::optional<std::uint32_t> bitrate_bps, int stability_subsets) {
+SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
+                       const SuiteRunOptions& options) {
   const auto start = std::chrono::steady_clock::now();
-  SuiteJson row{{"name", c.name}, {"ok", true}, {"error", ""}};
+  SuiteJson row{
+      {"name", c.name}, {"ok", true}, {"error", ""}, {"method", ToString(options.method)}};
   std::filesystem::create_directories(dir);
   DemoContext ctx;
   ctx.out = dir;
   ctx.seed = c.seed;
-  ctx.quiet = quiet;
-  ctx.stream_profile = stream_profile;
-  ctx.bitrate_bps = bitrate_bps;
-  ctx.stability_subsets = stability_subsets;
+  ctx.quiet = options.quiet;
+  ctx.stream_profile = options.stream_profile;
+  ctx.bitrate_bps = options.bitrate_bps;
+  ctx.stability_subsets = options.stability_subsets;
+  ctx.method = options.method;
   ctx.progress = [](const std::string&, std::size_t, std::size_t) {};
-  ScaleDemoFrames(ctx, frames_scale);
+  ScaleDemoFrames(ctx, options.frames_scale);
   try {
     ctx.head = DerivedHead(c, dir);
     std::string folder;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "tofnav/pipeline/paper_method.hpp"
 #include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/sim/scenario_variation.hpp"
 
@@ -39,16 +40,24 @@ struct SuiteFile {
 /// Parses a suite file; IoError naming the file and the JSON path of a bad key or value.
 SuiteFile ReadSuiteFile(const std::filesystem::path& path);
 
+/// How the cases of a suite are run (`tofnav evaluate suite`'s options).
+struct SuiteRunOptions {
+  double frames_scale = 1.0;  // the demo's frame counts times this
+  bool quiet = true;
+  /// The recordings are written in this profile at `bitrate_bps` (unset: the hl2ss client's
+  /// default).
+  Hl2ssStreamProfile stream_profile{Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kRaw};
+  std::optional<std::uint32_t> bitrate_bps;
+  /// > 0: the depth stage's stability check (DemoContext), whose largest C1 and head-median
+  /// changes go in the row as stability_c1_mm and stability_head_mm.
+  int stability_subsets = 0;
+  Method method = Method::kTofnav;  // the stages after the session: tofnav's or the paper's
+};
+
 /// Simulates and runs the case's sessions through the whole pipeline under `dir` (the demo's
-/// stages, docs/demo.md) and returns its row: {"name", "ok", "error", figures..., "stages"}.
-/// `progress` gets a label and a fraction for each step.
-/// The recordings are written in `stream_profile` at `bitrate_bps` (unset: the hl2ss client's
-/// default). `stability_subsets` > 0: the depth stage's stability check (DemoContext), whose
-/// largest C1 and head-median changes go in the row as stability_c1_mm and stability_head_mm.
-SuiteJson RunSuiteCase(
-    const SuiteCase& c, double frames_scale, const std::filesystem::path& dir, bool quiet,
-    const Hl2ssStreamProfile& stream_profile = {Hl2ssDepthProfile::kSame, Hl2ssVideoProfile::kRaw},
-    std::optional<std::uint32_t> bitrate_bps = std::nullopt, int stability_subsets = 0);
+/// stages, docs/demo.md) and returns its row: {"name", "ok", "error", "method", figures...}.
+SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
+                       const SuiteRunOptions& options);
 
 /// The acceptance lines of the outlier-proof pipeline (docs/suite.md) for one row: each
 /// {figure, value, op, limit, met}.
