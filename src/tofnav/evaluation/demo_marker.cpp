@@ -25,26 +25,6 @@ constexpr double kWorkingFromMm = 300.0, kWorkingToMm = 700.0;  // the paper's w
 // A run restarts 400 mm back; at the demo's speeds a frame moves up to ~25 mm within a run.
 constexpr double kRunRestartMm = 100.0;
 
-// The built-in stage runs 400 mm at 40 mm/s four times (1800 frames); the demo runs the same
-// travel faster so that `frames` cover all four runs (the simulator has no motion blur). Returns
-// the stage's speed [mm/s], known to the user as the stage's commanded speed.
-double FitStageInto(sim::Scenario& s, std::int64_t frames) {
-  double speed_mm_per_s = 0.0;
-  for (sim::Mount& m : s.mounts) {
-    if (m.motion.kind != sim::MotionKind::kSequence) continue;
-    const auto runs = static_cast<std::int64_t>(m.motion.segments.size());
-    const std::int64_t slots = std::max<std::int64_t>(frames / runs, 12);
-    for (sim::Motion& run : m.motion.segments) {
-      run.linear.speed_mm_per_s *=
-          static_cast<double>(run.segment_slots) / static_cast<double>(slots);
-      run.segment_slots = slots;
-      speed_mm_per_s = run.linear.speed_mm_per_s;
-    }
-    s.frames = slots * runs;
-  }
-  return speed_mm_per_s;
-}
-
 // Largest |mean marker-centre range bias| over the 100 mm bins inside the working range.
 double MaxAbsBiasMm(const ToolEvaluation& e) {
   double worst = 0.0;
@@ -68,10 +48,30 @@ DemoJson BiasBins(const ToolEvaluation& e) {
 
 }  // namespace
 
+// The built-in stage runs 400 mm at 40 mm/s four times (1800 frames); the demo runs the same
+// travel faster so that `frames` cover all four runs (the simulator has no motion blur). Returns
+// the stage's speed [mm/s], known to the user as the stage's commanded speed.
+double FitMarkerStageInto(sim::Scenario& s, std::int64_t frames) {
+  double speed_mm_per_s = 0.0;
+  for (sim::Mount& m : s.mounts) {
+    if (m.motion.kind != sim::MotionKind::kSequence) continue;
+    const auto runs = static_cast<std::int64_t>(m.motion.segments.size());
+    const std::int64_t slots = std::max<std::int64_t>(frames / runs, 12);
+    for (sim::Motion& run : m.motion.segments) {
+      run.linear.speed_mm_per_s *=
+          static_cast<double>(run.segment_slots) / static_cast<double>(slots);
+      run.segment_slots = slots;
+      speed_mm_per_s = run.linear.speed_mm_per_s;
+    }
+    s.frames = slots * runs;
+  }
+  return speed_mm_per_s;
+}
+
 void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   sim::Scenario scenario = sim::BuiltinScenario("marker-stage");
   if (ctx.vary_stage) ctx.vary_stage(scenario);
-  const double stage_speed_mm_per_s = FitStageInto(scenario, ctx.stage_frames);
+  const double stage_speed_mm_per_s = FitMarkerStageInto(scenario, ctx.stage_frames);
   const std::filesystem::path dir = ctx.out / "stage";
   SimulateOptions simulate;
   simulate.seed = ctx.seed;

@@ -70,6 +70,10 @@ DemoJson Acceptance(const std::string& figure, double value, const std::string& 
 /// the session wrote; skin stickers are for identification, not a tool.
 std::vector<ToolGeometry> SessionTrackedTools(const DemoContext& ctx);
 
+/// The built-in marker-stage's four runs made to fit `frames` (the same travel, faster: the
+/// simulator has no motion blur); returns the stage's commanded speed [mm/s].
+double FitMarkerStageInto(sim::Scenario& s, std::int64_t frames);
+
 void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage);
 void RunDemoSession(DemoContext& ctx, DemoJson& stage);
 void RunDemoDepth(DemoContext& ctx, DemoJson& stage);

@@ -1,0 +1,40 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// `tofnav evaluate fidelity`: the rows and the experiments in order.
+#include "tofnav/evaluation/fidelity.hpp"
+
+#include <cmath>
+
+namespace tofnav {
+namespace {
+
+constexpr double kFidelityBandFraction = 0.25;  // the band of a figure published without a spread
+
+}  // namespace
+
+FidelityRow MakeFidelityRow(std::string experiment, std::string figure, std::string source,
+                            double published, std::optional<double> sd, double ours) {
+  FidelityRow row;
+  row.experiment = std::move(experiment);
+  row.figure = std::move(figure);
+  row.source = std::move(source);
+  row.published = published;
+  row.spread_published = sd.has_value();
+  const double half = sd ? *sd : kFidelityBandFraction * std::abs(published);
+  row.published_low = published - half;
+  row.published_high = published + half;
+  row.ours = ours;
+  return row;
+}
+
+FidelityResult RunFidelity(const FidelityOptions& options) {
+  FidelityResult result;
+  result.details = nlohmann::ordered_json::object();
+  MarkerRangeModel frf;
+  FidelityTapeStage(options, result, frf);
+  FidelityMaterials(options, frf, result);
+  FidelityPhantoms(options, result);
+  FidelitySkinStudy(options, frf, result);
+  return result;
+}
+
+}  // namespace tofnav
