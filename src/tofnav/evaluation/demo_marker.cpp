@@ -68,6 +68,16 @@ double FitMarkerStageInto(sim::Scenario& s, std::int64_t frames) {
   return speed_mm_per_s;
 }
 
+MarkerSource OpenSimulatedMarkerSource(const std::filesystem::path& dir) {
+  RecordingWithCamera opened =
+      OpenRecordingWithCamera(dir / "rm_depth_ahat.bin", dir / "calibration");
+  MarkerSource source;
+  source.frames = opened.recording->frame_count();
+  source.recording = std::move(opened.recording);
+  source.camera = std::move(opened.camera);
+  return source;
+}
+
 void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   sim::Scenario scenario = sim::BuiltinScenario("marker-stage");
   if (ctx.vary_stage) ctx.vary_stage(scenario);
@@ -80,12 +90,7 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   simulate.progress = [&](std::size_t d, std::size_t t) { ctx.progress("simulate stage", d, t); };
   const SimulateResult simulated = RunSimulation(scenario, dir, simulate);
 
-  RecordingWithCamera opened =
-      OpenRecordingWithCamera(dir / "rm_depth_ahat.bin", dir / "calibration");
-  MarkerSource source;
-  source.frames = opened.recording->frame_count();
-  source.recording = std::move(opened.recording);
-  source.camera = std::move(opened.camera);
+  const MarkerSource source = OpenSimulatedMarkerSource(dir);
   const MarkerDetectionOptions detection;
   const ToolGeometry structure = ReadToolFile(dir / "tools" / "tape_structure.json");
   StageSampleOptions sample_options;

@@ -124,12 +124,7 @@ std::vector<ToolGeometry> SessionTrackedTools(const DemoContext& ctx) {
 
 void RunDemoTracking(DemoContext& ctx, DemoJson& stage) {
   Require(ctx.session.has_value(), "no patient session (its simulation failed)");
-  RecordingWithCamera opened = OpenRecordingWithCamera(ctx.session_dir / "rm_depth_ahat.bin",
-                                                       ctx.session_dir / "calibration");
-  MarkerSource source;
-  source.frames = opened.recording->frame_count();
-  source.recording = std::move(opened.recording);
-  source.camera = std::move(opened.camera);
+  const MarkerSource source = OpenSimulatedMarkerSource(ctx.session_dir);
   const MarkerDetectionOptions detection;
   const std::vector<ToolGeometry> tools = SessionTrackedTools(ctx);
   Require(!tools.empty(), "the session wrote no tool file");

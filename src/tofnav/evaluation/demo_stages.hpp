@@ -13,6 +13,7 @@
 #include "tofnav/core/rigid3d.hpp"
 #include "tofnav/core/triangle_mesh.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/pipeline/marker_frames.hpp"
 #include "tofnav/pipeline/paper_method.hpp"
 #include "tofnav/recording/hl2ss_recording.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
@@ -69,6 +70,10 @@ DemoJson Acceptance(const std::string& figure, double value, const std::string& 
 /// The session's tracked tools (the headframe's and any instrument), read from the tool files
 /// the session wrote; skin stickers are for identification, not a tool.
 std::vector<ToolGeometry> SessionTrackedTools(const DemoContext& ctx);
+
+/// Every frame of a simulated folder's recording (DIR/rm_depth_ahat.bin, DIR/calibration) as a
+/// source of marker detections.
+MarkerSource OpenSimulatedMarkerSource(const std::filesystem::path& dir);
 
 /// The built-in marker-stage's four runs made to fit `frames` (the same travel, faster: the
 /// simulator has no motion blur); returns the stage's commanded speed [mm/s].

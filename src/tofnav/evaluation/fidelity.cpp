@@ -4,6 +4,8 @@
 
 #include <cmath>
 
+#include "tofnav/scenario/simulate.hpp"
+
 namespace tofnav {
 namespace {
 
@@ -24,6 +26,17 @@ FidelityRow MakeFidelityRow(std::string experiment, std::string figure, std::str
   row.published_high = published + half;
   row.ours = ours;
   return row;
+}
+
+void SimulateForFidelity(const FidelityOptions& options, const sim::Scenario& scenario,
+                         const std::filesystem::path& dir, const std::string& label,
+                         std::uint64_t seed) {
+  SimulateOptions simulate;
+  simulate.seed = seed;
+  simulate.progress = [&](std::size_t d, std::size_t t) {
+    if (options.progress) options.progress(label, d, t);
+  };
+  RunSimulation(scenario, dir, simulate);
 }
 
 FidelityResult RunFidelity(const FidelityOptions& options) {

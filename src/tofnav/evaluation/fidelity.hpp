@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tofnav/correction/marker_range_model.hpp"
+#include "tofnav/sim/scenario.hpp"
 
 namespace tofnav {
 
@@ -56,6 +57,11 @@ struct FidelityResult {
 /// Runs every experiment in order: the tape on the linear stage (whose f_rf the others use), the
 /// materials plate, Table I's phantoms, the skin study.
 FidelityResult RunFidelity(const FidelityOptions& options);
+
+/// Simulates `scenario` into `dir` (SAME+RAW) at `seed`, progress under `label`.
+void SimulateForFidelity(const FidelityOptions& options, const sim::Scenario& scenario,
+                         const std::filesystem::path& dir, const std::string& label,
+                         std::uint64_t seed);
 
 // The experiments, each appending its rows and details (fidelity_*.cpp).
 void FidelityTapeStage(const FidelityOptions& options, FidelityResult& result,

@@ -9,7 +9,6 @@
 #include "tofnav/evaluation/material_evaluate.hpp"
 #include "tofnav/evaluation/truth_hits.hpp"
 #include "tofnav/recording/open_recording.hpp"
-#include "tofnav/scenario/simulate.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 
 namespace tofnav {
@@ -48,12 +47,7 @@ void FidelityMaterials(const FidelityOptions& options, const MarkerRangeModel& f
   scenario.frames = frames;
   scenario.timing.drop_probability = 0.0;
   const std::filesystem::path dir = options.out / "materials";
-  SimulateOptions simulate;
-  simulate.seed = options.seed;
-  simulate.progress = [&](std::size_t d, std::size_t t) {
-    if (options.progress) options.progress("materials: simulate", d, t);
-  };
-  RunSimulation(scenario, dir, simulate);
+  SimulateForFidelity(options, scenario, dir, "materials: simulate", options.seed);
   const RecordingWithCamera opened =
       OpenRecordingWithCamera(dir / "rm_depth_ahat.bin", dir / "calibration");
   SimulationTruth truth = ReadSimulationTruth(dir, "");

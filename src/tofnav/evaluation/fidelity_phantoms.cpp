@@ -9,7 +9,6 @@
 #include "tofnav/evaluation/fidelity.hpp"
 #include "tofnav/evaluation/truth_hits.hpp"
 #include "tofnav/recording/open_recording.hpp"
-#include "tofnav/scenario/simulate.hpp"
 #include "tofnav/sim/scenario_fidelity.hpp"
 
 namespace tofnav {
@@ -33,12 +32,7 @@ PhantomFigures MeasurePhantom(const FidelityOptions& options, const sim::Materia
   truth.scenario =
       sim::FacingPhantomScenario(sim::PhantomHead(), material, kPhantomDistanceMm, frames);
   const std::filesystem::path dir = options.out / ("phantom_" + name);
-  SimulateOptions simulate;
-  simulate.seed = options.seed;
-  simulate.progress = [&](std::size_t d, std::size_t t) {
-    if (options.progress) options.progress(name + " phantom: simulate", d, t);
-  };
-  RunSimulation(truth.scenario, dir, simulate);
+  SimulateForFidelity(options, truth.scenario, dir, name + " phantom: simulate", options.seed);
   std::ifstream file(dir / "truth.json");
   truth.truth = nlohmann::json::parse(file);
   const RecordingWithCamera opened =

@@ -10,7 +10,6 @@
 #include "tofnav/correction/surface_costs.hpp"
 #include "tofnav/evaluation/fidelity.hpp"
 #include "tofnav/recording/open_recording.hpp"
-#include "tofnav/scenario/simulate.hpp"
 #include "tofnav/sim/scenario_fidelity.hpp"
 
 namespace tofnav {
@@ -26,12 +25,8 @@ double ParticipantErrorMm(const FidelityOptions& options, const MarkerRangeModel
   const sim::Scenario scenario = sim::SkinStudyScenario(sim::PhantomHead(), skin, frames);
   const std::string label = "skin study: participant " + std::to_string(index + 1);
   const std::filesystem::path dir = options.out / ("skin_participant_" + std::to_string(index + 1));
-  SimulateOptions simulate;
-  simulate.seed = options.seed + static_cast<std::uint64_t>(index);
-  simulate.progress = [&](std::size_t d, std::size_t t) {
-    if (options.progress) options.progress(label, d, t);
-  };
-  RunSimulation(scenario, dir, simulate);
+  SimulateForFidelity(options, scenario, dir, label,
+                      options.seed + static_cast<std::uint64_t>(index));
   const RecordingWithCamera opened =
       OpenRecordingWithCamera(dir / "rm_depth_ahat.bin", dir / "calibration");
   IdentificationSampling sampling;

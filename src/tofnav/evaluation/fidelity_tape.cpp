@@ -10,8 +10,6 @@
 #include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/evaluation/fidelity.hpp"
 #include "tofnav/pipeline/marker_tasks.hpp"
-#include "tofnav/recording/open_recording.hpp"
-#include "tofnav/scenario/simulate.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 
 namespace tofnav {
@@ -48,18 +46,8 @@ void FidelityTapeStage(const FidelityOptions& options, FidelityResult& result,
       std::max(80.0, std::round(static_cast<double>(options.stage_frames) * options.frames_scale)));
   const double speed_mm_per_s = FitMarkerStageInto(scenario, frames);
   const std::filesystem::path dir = options.out / "tape_stage";
-  SimulateOptions simulate;
-  simulate.seed = options.seed;
-  simulate.progress = [&](std::size_t d, std::size_t t) {
-    if (options.progress) options.progress("tape stage: simulate", d, t);
-  };
-  RunSimulation(scenario, dir, simulate);
-  RecordingWithCamera opened =
-      OpenRecordingWithCamera(dir / "rm_depth_ahat.bin", dir / "calibration");
-  MarkerSource source;
-  source.frames = opened.recording->frame_count();
-  source.recording = std::move(opened.recording);
-  source.camera = std::move(opened.camera);
+  SimulateForFidelity(options, scenario, dir, "tape stage: simulate", options.seed);
+  const MarkerSource source = OpenSimulatedMarkerSource(dir);
   StageSampleOptions sample_options;
   sample_options.split_jump_mm = kTapeRunRestartMm;
   sample_options.speed_mm_s = speed_mm_per_s;
