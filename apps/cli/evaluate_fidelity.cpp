@@ -47,10 +47,20 @@ int RunEvaluateFidelity(int argc, char** argv) {
       ->check(CLI::Range(0.05, 20.0));
   app.add_option("--participants", options.participants, "the skin study's participants")
       ->check(CLI::Range(2, 100));
+  app.add_option("--only", options.only, "run only these experiments (repeatable)")
+      ->check(CLI::IsMember(FidelityExperiments()));
+  double multipath_gain = 1.0;
+  app.add_option("--multipath-gain", multipath_gain,
+                 "one-bounce multipath of every simulation: 1 the simulator's default, 0 off "
+                 "(to see what the indirect light does to each row)")
+      ->check(CLI::Range(0.0, 1.0));
   app.add_flag("--json", json, "print fidelity.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");
   TOFNAV_PARSE(app, argc, argv);
   options.out = out;
+  if (multipath_gain != 1.0) {
+    options.vary = [multipath_gain](sim::Scenario& s) { s.render.multipath.gain = multipath_gain; };
+  }
   std::filesystem::create_directories(out);
   std::unique_ptr<ProgressBar> bar;
   std::string bar_label;

@@ -2,6 +2,7 @@
 // `tofnav evaluate fidelity`: the rows and the experiments in order.
 #include "tofnav/evaluation/fidelity.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "tofnav/scenario/simulate.hpp"
@@ -36,17 +37,35 @@ void SimulateForFidelity(const FidelityOptions& options, const sim::Scenario& sc
   simulate.progress = [&](std::size_t d, std::size_t t) {
     if (options.progress) options.progress(label, d, t);
   };
-  RunSimulation(scenario, dir, simulate);
+  if (!options.vary) {
+    RunSimulation(scenario, dir, simulate);
+    return;
+  }
+  sim::Scenario varied = scenario;
+  options.vary(varied);
+  RunSimulation(varied, dir, simulate);
+}
+
+const std::vector<std::string>& FidelityExperiments() {
+  static const std::vector<std::string> names = {"tape", "materials", "phantoms", "skin"};
+  return names;
 }
 
 FidelityResult RunFidelity(const FidelityOptions& options) {
   FidelityResult result;
   result.details = nlohmann::ordered_json::object();
+  const auto wanted = [&](const char* name) {
+    return options.only.empty() ||
+           std::find(options.only.begin(), options.only.end(), name) != options.only.end();
+  };
   MarkerRangeModel frf;
-  FidelityTapeStage(options, result, frf);
-  FidelityMaterials(options, frf, result);
-  FidelityPhantoms(options, result);
-  FidelitySkinStudy(options, frf, result);
+  if (wanted("tape") || wanted("materials") || wanted("skin")) {
+    FidelityTapeStage(options, result, frf);
+    if (!wanted("tape")) result.rows.clear();  // run for its f_rf only
+  }
+  if (wanted("materials")) FidelityMaterials(options, frf, result);
+  if (wanted("phantoms")) FidelityPhantoms(options, result);
+  if (wanted("skin")) FidelitySkinStudy(options, frf, result);
   return result;
 }
 

@@ -46,6 +46,11 @@ struct FidelityOptions {
   std::int64_t phantom_frames = 30;  // Table I: frames averaged per pixel (paper: 300)
   std::int64_t stage_frames = 160;   // the tape on the linear stage, four runs
   std::int64_t station_frames = 2;   // materials: frames per station (90 stations)
+  /// The experiments to run (names as FidelityExperiments()); empty: all. The tape stage runs
+  /// whenever materials or the skin study does (its f_rf corrects their markers).
+  std::vector<std::string> only;
+  /// Applied to every scene before it is simulated (e.g. a render setting under study); optional.
+  std::function<void(sim::Scenario&)> vary;
   std::function<void(const std::string&, std::size_t, std::size_t)> progress;
 };
 
@@ -53,6 +58,9 @@ struct FidelityResult {
   std::vector<FidelityRow> rows;
   nlohmann::ordered_json details;  // per experiment: the figures behind the rows
 };
+
+/// The experiments' names: "tape", "materials", "phantoms", "skin".
+const std::vector<std::string>& FidelityExperiments();
 
 /// Runs every experiment in order: the tape on the linear stage (whose f_rf the others use), the
 /// materials plate, Table I's phantoms, the skin study.

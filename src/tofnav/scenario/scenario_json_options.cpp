@@ -26,7 +26,8 @@ constexpr Field<Material> kMaterialFields[] = {
     {"retro_coefficient", &Material::retro_coefficient},
     {"retro_observation_falloff_rad", &Material::retro_observation_falloff_rad},
     {"retro_entrance_cutoff_rad", &Material::retro_entrance_cutoff_rad},
-    {"retro_curve_amplitude_mm", &Material::retro_curve_amplitude_mm}};
+    {"retro_curve_amplitude_mm", &Material::retro_curve_amplitude_mm},
+    {"retro_angle_gain_mm_per_rad", &Material::retro_angle_gain_mm_per_rad}};
 
 using sim::RadiometryOptions;
 constexpr Field<RadiometryOptions> kRadiometryFields[] = {

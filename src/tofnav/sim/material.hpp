@@ -38,6 +38,10 @@ struct Material {
   double retro_entrance_cutoff_rad = 0.95993;  // beta beyond which retro-reflection stops (55 deg)
   RetroCurve retro_curve = RetroCurve::kLinear;  // f_rf(d), added to the range of retro hits
   double retro_curve_amplitude_mm = 4.0;         // f_rf span over 300 .. 700 mm
+  /// The sheeting's range error grows with the entrance angle beta: + gain * beta [mm/rad]. The
+  /// light's path inside the prisms lengthens as the sheeting tilts; the linear stage saw 1.08 mm
+  /// between its 0-30 deg runs on average (docs/simulator.md 10). Added in both bias modes.
+  double retro_angle_gain_mm_per_rad = 0.0;
 
   /// Throws std::invalid_argument (PreconditionError) naming the bad field.
   void Check() const;

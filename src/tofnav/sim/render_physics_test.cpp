@@ -110,6 +110,30 @@ TEST(RenderPhysics, ModelModeAddsC1PlusC2dPlusC3Theta) {
   });
 }
 
+TEST(RenderPhysics, RetroSheetingReadsFartherByItsEntranceAngleGain) {
+  constexpr double kDistanceMm = 450.0, kTiltRad = 0.5, kGainMmPerRad = 2.1;
+  RenderOptions options = IdealRenderOptions();  // f_rf's curve and the angle term, nothing else
+  options.bias_mode = BiasMode::kPhysical;
+  options.window = WindowAround(CentrePixel().x(), CentrePixel().y(), 30);
+  Material tape = RetroReflectiveMaterial(RetroCurve::kNone);
+  const RenderResult flat = Render(BoardScene(tape, kDistanceMm, kTiltRad), options);
+  tape.retro_angle_gain_mm_per_rad = kGainMmPerRad;
+  const RenderResult tilted = Render(BoardScene(tape, kDistanceMm, kTiltRad), options);
+  const Eigen::Vector3d n = FacingPose(kDistanceMm, kTiltRad).rotation * Eigen::Vector3d::UnitZ();
+  double measured = 0.0, expected = 0.0;
+  int count = 0;
+  ForEachPixel(options.window, 0, [&](int u, int v) {
+    if (tilted.frame.range_mm(u, v) == 0 || flat.frame.range_mm(u, v) == 0) return;
+    measured += tilted.frame.range_mm(u, v) - flat.frame.range_mm(u, v);
+    expected += kGainMmPerRad * std::acos(std::abs(n.dot(*TestCamera().Ray({u, v}))));
+    ++count;
+  });
+  ASSERT_GT(count, 100);
+  // Whole-millimetre ranges: the mean of the rounding differences is within a few tenths.
+  EXPECT_NEAR(measured / count, expected / count, 0.3);
+  EXPECT_GT(expected / count, 0.9);  // about 0.5 rad x 2.1 mm/rad: the term is there to see
+}
+
 TEST(RenderPhysics, MarkersExceedAndSkinStaysBelowTrackerThresholds) {
   constexpr double kMarkerThreshold = 1280.0;  // IRToolTrack
   constexpr double kSkinThreshold = 720.0;     // HL2-DINO

@@ -105,7 +105,8 @@ double AdditiveBiasMm(const Material& material, BiasMode mode, double range_mm,
     bias_mm += material.intensity_bias_gain_mm * std::log(sensor.intensity_reference_ab / hit_ab);
   }
   if (material.retro_reflective) {
-    bias_mm += RetroRangeBiasMm(material.retro_curve, material.retro_curve_amplitude_mm, range_mm);
+    bias_mm += RetroRangeBiasMm(material.retro_curve, material.retro_curve_amplitude_mm, range_mm) +
+               material.retro_angle_gain_mm_per_rad * incidence_rad;
   }
   return bias_mm;
 }

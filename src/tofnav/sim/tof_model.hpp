@@ -69,7 +69,8 @@ double SubsurfaceBiasMm(const Material& material, double incidence_rad,
                         const SensorOptions& sensor);
 
 /// Additive range bias of one hit [mm]: model mode C1 + C2 d + C3 theta, physical mode the
-/// intensity term gain * ln(AB_ref / hit_ab); plus f_rf(d) on retro material in both.
+/// intensity term gain * ln(AB_ref / hit_ab); plus f_rf(d) and the entrance-angle term
+/// retro_angle_gain_mm_per_rad * incidence on retro material in both.
 double AdditiveBiasMm(const Material& material, BiasMode mode, double range_mm,
                       double incidence_rad, double hit_ab, const SensorOptions& sensor);
 

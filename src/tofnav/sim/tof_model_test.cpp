@@ -91,8 +91,15 @@ TEST(AdditiveBias, PhysicalModeHasTheIntensityTermAndRetroCurve) {
                    nylon.intensity_bias_gain_mm * std::log(sensor.intensity_reference_ab / 50.0));
   const Material retro = RetroReflectiveMaterial(RetroCurve::kLinear);
   for (const BiasMode mode : {BiasMode::kPhysical, BiasMode::kModel}) {
-    EXPECT_DOUBLE_EQ(AdditiveBiasMm(retro, mode, 500.0, 0.1, 4e4, sensor), 2.0);
+    // f_rf's linear curve at 500 mm (half of 4 mm) plus the entrance-angle term at 0.1 rad.
+    EXPECT_DOUBLE_EQ(AdditiveBiasMm(retro, mode, 500.0, 0.1, 4e4, sensor),
+                     2.0 + 0.1 * retro.retro_angle_gain_mm_per_rad);
+    EXPECT_DOUBLE_EQ(AdditiveBiasMm(retro, mode, 500.0, 0.0, 4e4, sensor), 2.0);
   }
+  Material tilted = retro;  // the entrance-angle term (docs/simulator.md 10)
+  tilted.retro_angle_gain_mm_per_rad = 2.1;
+  EXPECT_DOUBLE_EQ(AdditiveBiasMm(tilted, BiasMode::kPhysical, 500.0, 0.5, 4e4, sensor),
+                   2.0 + 2.1 * 0.5);
 }
 
 TEST(DepthNoise, FollowsTheShotNoiseLawAboveTheFloor) {
