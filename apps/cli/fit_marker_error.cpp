@@ -51,6 +51,10 @@ int RunFitMarkerError(int argc, char** argv) {
   bool allow_lossy_depth = false;
   app.add_flag("--allow-lossy-depth", allow_lossy_depth,
                "use SAME+H26x depth (4 mm steps, lossy) anyway (docs/ahat.md 3.6.5)");
+  bool range_only = false;
+  app.add_flag("--range-only", range_only,
+               "f_rf of the range alone, Eq. (1) as published (default: with the tape's "
+               "entrance-angle term when the runs' tilts span 10 deg; docs/tracking.md 4)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
   TOFNAV_PARSE(app, argc, argv);
@@ -93,7 +97,7 @@ int RunFitMarkerError(int argc, char** argv) {
     }
   }
   if (samples.empty()) throw std::runtime_error("no run gave range-error samples");
-  const MarkerRangeFitResult fit = FitMarkerRangeModel(samples, spline_options);
+  const MarkerRangeFitResult fit = FitMarkerRangeModel(samples, spline_options, !range_only);
   MarkerRangeFile file{fit.model,
                        {static_cast<int>(samples.size()), frames_used, fit.rms_residual_mm,
                         fit.fit.effective_dof, spline_options.smoothing_p ? "given" : "gcv"}};
@@ -107,6 +111,7 @@ int RunFitMarkerError(int argc, char** argv) {
                       {"smoothing_p", fit.fit.smoothing_p},
                       {"effective_dof", fit.fit.effective_dof},
                       {"rms_residual_mm", fit.rms_residual_mm},
+                      {"entrance_gain_mm_per_rad", fit.model.entrance_gain_mm_per_rad},
                       {"f_rf_mm", curve},
                       {"runs", runs_json}};
   if (json) {
@@ -115,8 +120,9 @@ int RunFitMarkerError(int argc, char** argv) {
   }
   std::cout << "f_rf from " << samples.size() << " samples of " << frames_used << " frames: p "
             << fit.fit.smoothing_p << ", " << fit.fit.effective_dof
-            << " degrees of freedom, residual RMS " << fit.rms_residual_mm << " mm -> "
-            << out_path.string() << "\n  f_rf [mm]:";
+            << " degrees of freedom, residual RMS " << fit.rms_residual_mm << " mm, entrance gain "
+            << fit.model.entrance_gain_mm_per_rad << " mm/rad -> " << out_path.string()
+            << "\n  f_rf [mm]:";
   for (const auto& c : curve) std::cout << " " << c[0].get<double>() << ": " << c[1].get<double>();
   std::cout << "\n";
   for (const auto& run : runs_json) {

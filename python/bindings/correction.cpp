@@ -132,8 +132,12 @@ void DefineMarkerRange(py::module_& m) {
       .def_readonly("smoothing_p", &MarkerRangeModel::smoothing_p)
       .def_property_readonly(
           "knots_mm", [](const MarkerRangeModel& f) { return py::array(py::cast(f.bias_mm.x)); })
-      .def("bias_mm", py::vectorize(&MarkerRangeModel::BiasMm), py::arg("range_mm"),
-           "f_rf at the measured surface range [mm], element-wise")
+      .def_readonly("entrance_gain_mm_per_rad", &MarkerRangeModel::entrance_gain_mm_per_rad)
+      .def("bias_mm", py::vectorize([](const MarkerRangeModel* f, double range_mm) {
+             return f->BiasMm(range_mm);
+           }),
+           py::arg("range_mm"),
+           "f_rf at the measured surface range [mm] (entrance angle 0), element-wise")
       .def("correct_range_mm", py::vectorize([](const MarkerRangeModel* f, double range_mm) {
              return CorrectMarkerRange(range_mm, *f);
            }),

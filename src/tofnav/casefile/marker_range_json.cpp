@@ -62,6 +62,7 @@ std::string EncodeMarkerRangeJson(const MarkerRangeFile& file) {
                    {"knots_mm", s.x},
                    {"bias_mm", s.value},
                    {"second_derivative_per_mm", s.second_derivative},
+                   {"entrance_gain_mm_per_rad", file.model.entrance_gain_mm_per_rad},
                    {"fit",
                     {{"samples", file.fit.samples},
                      {"frames", file.fit.frames},
@@ -97,6 +98,8 @@ MarkerRangeFile DecodeMarkerRangeJson(std::string_view text, const std::filesyst
     throw IoError(path, std::nullopt, "a natural spline has second derivative 0 at both ends");
   }
   file.model.smoothing_p = NumberOr(json, "smoothing_p", 1.0, path);
+  // Absent in files written before it (range only, Eq. 1): 0.
+  file.model.entrance_gain_mm_per_rad = NumberOr(json, "entrance_gain_mm_per_rad", 0.0, path);
   if (const auto fit = json.find("fit"); fit != json.end() && fit->is_object()) {
     file.fit.samples = static_cast<int>(std::clamp(NumberOr(*fit, "samples", 0, path), 0.0, 1e9));
     file.fit.frames = static_cast<int>(std::clamp(NumberOr(*fit, "frames", 0, path), 0.0, 1e9));

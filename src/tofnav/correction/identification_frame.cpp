@@ -150,6 +150,17 @@ Points3d MarkerPoints(const MarkerArea& area, const AhatFrame& frame, const Ahat
     const Eigen::Vector3d ray = camera.PixelRay(px.x(), px.y()).cast<double>();
     points.push_back(ray * CorrectMarkerRange(frame.range_mm(px.x(), px.y()), marker_model));
   }
+  // f_rf's entrance-angle term (docs/tracking.md 4): a sticker is flat tape; its own points'
+  // plane gives each pixel's entrance angle.
+  const double gain = marker_model.entrance_gain_mm_per_rad;
+  if (gain != 0.0 && points.size() >= 3) {
+    const Eigen::Vector3d normal = ComputePrincipalAxes(points).axes.col(2);
+    for (Eigen::Vector3d& p : points) {
+      const double range = p.norm();
+      const double entrance_rad = std::acos(std::min(1.0, std::abs(normal.dot(p)) / range));
+      p *= (range - gain * entrance_rad) / range;
+    }
+  }
   return points;
 }
 

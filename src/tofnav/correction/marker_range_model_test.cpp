@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
 #include <random>
 
 #include "tofnav/markers/marker_centre.hpp"
@@ -36,6 +37,44 @@ TEST(FitMarkerRangeModel, RecoversEverySimulatorCurveWithinATenthOfAMillimetre) 
     EXPECT_LT(worst, kCurveTolMm) << static_cast<int>(curve);
     EXPECT_NEAR(r.rms_residual_mm, std::sqrt(kNoiseMm * kNoiseMm + 1.0 / 12.0), 0.05);
   }
+}
+
+// A stage's four runs at 0, 10, 20 and 30 deg: the tape reads farther by 2.1 mm/rad of entrance
+// angle on top of the linear 4 mm curve (the simulator's retro sheeting, docs/simulator.md 10).
+TEST(FitMarkerRangeModel, SeparatesTheEntranceAngleGainFromTheRangeCurve) {
+  constexpr double kGainMmPerRad = 2.1;
+  constexpr double kGainTolMmPerRad = 0.1;  // 2000 samples of 0.4 mm noise over 0-0.52 rad
+  std::mt19937_64 rng(11);
+  std::normal_distribution<double> noise(0.0, kNoiseMm);
+  std::uniform_real_distribution<double> range(280.0, 720.0);
+  std::vector<MarkerRangeSample> samples;
+  for (int i = 0; i < 2000; ++i) {
+    const double beta = (i % 4) * 10.0 * std::numbers::pi / 180.0;
+    const double d_true = range(rng);
+    const double d =
+        std::round(d_true + sim::RetroRangeBiasMm(sim::RetroCurve::kLinear, 4.0, d_true) +
+                   kGainMmPerRad * beta + noise(rng));
+    samples.push_back({d, d - d_true, 1.0, beta});
+  }
+  const MarkerRangeFitResult r = FitMarkerRangeModel(samples);
+  EXPECT_NEAR(r.model.entrance_gain_mm_per_rad, kGainMmPerRad, kGainTolMmPerRad);
+  double worst = 0.0;  // f_rf(d, beta) against the truth at every range and tilt
+  for (double d_true = 300.0; d_true <= 700.0; d_true += 5.0) {
+    for (int k = 0; k < 4; ++k) {
+      const double beta = k * 10.0 * std::numbers::pi / 180.0;
+      const double d = d_true + sim::RetroRangeBiasMm(sim::RetroCurve::kLinear, 4.0, d_true) +
+                       kGainMmPerRad * beta;
+      worst = std::max(worst, std::abs(d - r.model.BiasMm(d, beta) - d_true));
+    }
+  }
+  EXPECT_LT(worst, kCurveTolMm);
+  // Range only (the paper's Eq. 1): no gain, and the same samples leave the angle's spread.
+  const MarkerRangeFitResult paper = FitMarkerRangeModel(samples, {}, false);
+  EXPECT_EQ(paper.model.entrance_gain_mm_per_rad, 0.0);
+  EXPECT_GT(paper.rms_residual_mm, r.rms_residual_mm + 0.1);
+  // Samples at one angle (spheres, one tilt) do not fit a gain.
+  for (MarkerRangeSample& sample : samples) sample.entrance_rad = 0.3;
+  EXPECT_EQ(FitMarkerRangeModel(samples).model.entrance_gain_mm_per_rad, 0.0);
 }
 
 TEST(MarkerRangeModel, BeyondTheKnotsFollowsTheLastFiftyMillimetresNotTheLastInterval) {

@@ -106,6 +106,7 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
                         {static_cast<int>(samples.samples.size()), samples.frames_used,
                          fit.rms_residual_mm, fit.fit.effective_dof, "gcv"}});
   ctx.frf = fit.model;
+  ctx.range_only_frf = FitMarkerRangeModel(samples.samples, {}, false).model;
   std::ostringstream curve;
   curve << "range_mm,error_mm\n";
   for (double d = 250.0; d <= 750.0; d += 10.0) curve << d << ',' << fit.model.BiasMm(d) << '\n';
@@ -129,6 +130,7 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   stage["runs"] = samples.runs.size();
   stage["samples"] = samples.samples.size();
   stage["rms_residual_mm"] = fit.rms_residual_mm;
+  stage["entrance_gain_mm_per_rad"] = fit.model.entrance_gain_mm_per_rad;
   stage["bias_before_max_abs_mm"] = bias_mm[0];
   stage["bias_after_max_abs_mm"] = bias_mm[1];
   stage["bias_before_bins"] = bins[0];

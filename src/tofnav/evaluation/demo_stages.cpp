@@ -90,6 +90,7 @@ DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stag
 DemoJson RunDemoPaperMethod(const DemoContext& ctx, const std::function<void()>& after_stage) {
   DemoContext paper = ctx;
   paper.method = Method::kPaper;
+  paper.frf = ctx.range_only_frf;  // Eq. (1) as published: the range alone
   paper.out = ctx.out / "paper_method";
   paper.stability_subsets = 0;
   paper.depth_model.reset();

@@ -52,13 +52,14 @@ struct DemoContext {
   std::function<void(sim::Scenario&)> vary_stage, vary_session;
 
   std::optional<sim::PatientHead> patient_head;
-  std::optional<MarkerRangeModel> frf;        // stage marker_error
-  std::optional<sim::Scenario> session;       // the simulated patient session
-  std::filesystem::path session_dir;          // its folder
-  std::optional<DepthModelFile> depth_model;  // stage depth
-  std::optional<TriangleMesh> surface;        // stage reconstruction, in the headframe frame
-  std::optional<Rigid3d> tool_from_image;     // stage registration
-  Rigid3d true_tool_from_image;               // the headframe's truth (session)
+  std::optional<MarkerRangeModel> frf;             // stage marker_error
+  std::optional<MarkerRangeModel> range_only_frf;  // ... of the range alone: the paper's Eq. (1)
+  std::optional<sim::Scenario> session;            // the simulated patient session
+  std::filesystem::path session_dir;               // its folder
+  std::optional<DepthModelFile> depth_model;       // stage depth
+  std::optional<TriangleMesh> surface;             // stage reconstruction, in the headframe frame
+  std::optional<Rigid3d> tool_from_image;          // stage registration
+  Rigid3d true_tool_from_image;                    // the headframe's truth (session)
   std::string truth_tool;  // the simulator's tool whose frame the headframe tool shares
 };
 

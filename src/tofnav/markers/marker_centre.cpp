@@ -85,4 +85,9 @@ Points3d MarkerCentres(std::span<const DetectedMarker> markers, double radius_mm
   return centres;
 }
 
+void ShiftMarkerRange(DetectedMarker& marker, double shift_mm) {
+  marker.surface_range_mm += shift_mm;
+  for (CoreSample& s : marker.core) s.range_mm += static_cast<float>(shift_mm);
+}
+
 }  // namespace tofnav

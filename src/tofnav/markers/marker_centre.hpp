@@ -44,4 +44,8 @@ Eigen::Vector3d MarkerCentre(const DetectedMarker& marker, double radius_mm,
 /// MarkerCentre of every marker, in order.
 Points3d MarkerCentres(std::span<const DetectedMarker> markers, double radius_mm);
 
+/// Moves a marker's measured ranges along their rays: surface_range_mm and every core sample
+/// by `shift_mm` (a range correction such as Eq. 2's -f_rf).
+void ShiftMarkerRange(DetectedMarker& marker, double shift_mm);
+
 }  // namespace tofnav

@@ -10,6 +10,9 @@ struct MarkerRangeSample {
   double range_mm = 0.0;  // measured surface range d
   double error_mm = 0.0;  // delta
   double weight = 1.0;    // inverse variance, relative
+  /// The light's entrance angle on flat tape (the angle between the ray and the tape's normal)
+  /// [rad], when known; 0 for spheres (their seen cap faces the camera) and unknown tilts.
+  double entrance_rad = 0.0;
 };
 
 }  // namespace tofnav

@@ -154,8 +154,10 @@ IdentifyRecordingResult IdentifyFromRecording(
   const MarkerRangeModel frf = marker_range.value_or(MarkerRangeModel{});
   std::optional<ToolTracker> tracker, reference;
   std::vector<std::int64_t> left_out(options.exclude_tools.size(), 0);
-  if (!options.exclude_tools.empty()) tracker.emplace(options.exclude_tools);
-  if (options.reference_tool) reference.emplace(std::vector{*options.reference_tool});
+  ToolTrackerOptions tracking;  // f_rf's entrance-angle term for disc tools (docs/tracking.md 4)
+  tracking.pose.marker_entrance_gain_mm_per_rad = frf.entrance_gain_mm_per_rad;
+  if (!options.exclude_tools.empty()) tracker.emplace(options.exclude_tools, tracking);
+  if (options.reference_tool) reference.emplace(std::vector{*options.reference_tool}, tracking);
   // A headframe of one plate counts whole (docs/correction.md 2): its frames are all it has.
   const int min_reference_markers =
       options.reference_tool

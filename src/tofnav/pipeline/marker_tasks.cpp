@@ -86,7 +86,9 @@ std::vector<ToolPoseRecord> TrackTools(const MarkerSource& source,
                                        const ToolTrackerOptions& options,
                                        const MarkerRangeModel& marker_range,
                                        const Progress& progress, TrackingDrops* drops) {
-  ToolTracker tracker(tools, options);
+  ToolTrackerOptions tracking = options;  // f_rf's entrance-angle term (docs/tracking.md 4)
+  tracking.pose.marker_entrance_gain_mm_per_rad = marker_range.entrance_gain_mm_per_rad;
+  ToolTracker tracker(tools, tracking);
   std::vector<ToolPoseRecord> records;
   if (drops) drops->tools.assign(tools.size(), {});
   ForEachFrameDetections(

@@ -24,6 +24,12 @@ std::vector<ToolGeometry> TrackedTools(const NavigationCase& c) {
   return tools;
 }
 
+// The tracker's options with f_rf's entrance-angle term for disc tools (docs/tracking.md 4).
+ToolTrackerOptions WithEntranceGain(ToolTrackerOptions options, const MarkerRangeModel& frf) {
+  options.pose.marker_entrance_gain_mm_per_rad = frf.entrance_gain_mm_per_rad;
+  return options;
+}
+
 }  // namespace
 
 void NavigatorOptions::Check() const {
@@ -59,7 +65,7 @@ Navigator::Navigator(AhatCamera camera, NavigationCase navigation_case,
     : camera_(std::move(camera)),
       case_(std::move(navigation_case)),
       options_(options),
-      tracker_(TrackedTools(case_), options.tracking),
+      tracker_(TrackedTools(case_), WithEntranceGain(options.tracking, case_.marker_range)),
       reference_guard_(options.pose_jumps) {
   options_.Check();
   for (const Trajectory& t : case_.plan) {

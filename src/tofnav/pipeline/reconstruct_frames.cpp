@@ -23,6 +23,9 @@ std::vector<TrackedFrame> TrackFrames(const AhatRecording& recording, const Ahat
                                       const std::function<void(std::size_t)>& progress) {
   ToolTrackerOptions tracker_options;
   tracker_options.pose = options.pose;
+  // f_rf's entrance-angle term for disc tools (docs/tracking.md 4).
+  tracker_options.pose.marker_entrance_gain_mm_per_rad =
+      options.marker_error.entrance_gain_mm_per_rad;
   // Per-frame measured poses: a filter lags (docs/reconstruction.md 6.1).
   tracker_options.filter_enabled = false;
   ToolTracker tracker({tool}, tracker_options);

@@ -140,6 +140,12 @@ StageRangeErrorResult MeasureMarkerRangeErrors(std::span<const StageFrame> frame
   result.line_rms_mm = std::sqrt(sum2 / static_cast<double>(posed.size()));
   // Eq. (1) data: delta = measured surface range - the surface range of the reference centre.
   const double radius = structure.SurfaceToCentreMm();
+  // Flat tape: each marker's entrance angle from the run's mean orientation (docs/tracking.md 4).
+  const std::optional<Eigen::Vector3d> normal_in_ahat =
+      structure.marker_type == MarkerType::kDisc
+          ? std::optional<Eigen::Vector3d>(result.ahat_from_structure_rotation *
+                                           MarkerPlaneNormal(structure))
+          : std::nullopt;
   for (std::size_t i = 0; i < posed.size(); ++i) {
     if ((posed[i].ahat_from_structure.translation - on_line[i]).norm() >
         options.max_line_residual_mm) {
@@ -154,8 +160,12 @@ StageRangeErrorResult MeasureMarkerRangeErrors(std::span<const StageFrame> frame
       const DetectedMarker& marker = frame.markers[static_cast<std::size_t>(d)];
       const double true_centre_mm = (reference * structure.markers_in_tool[k]).norm();
       const double true_surface_mm = SurfaceRangeForCentreMm(marker, radius, true_centre_mm);
+      const double entrance_rad =
+          normal_in_ahat
+              ? std::acos(std::min(1.0, std::abs(normal_in_ahat->dot(marker.ray_in_ahat))))
+              : 0.0;
       result.samples.push_back(
-          {marker.surface_range_mm, marker.surface_range_mm - true_surface_mm, 1.0});
+          {marker.surface_range_mm, marker.surface_range_mm - true_surface_mm, 1.0, entrance_rad});
       result.sample_frame.push_back(static_cast<int>(posed[i].frame));
       result.sample_marker.push_back(static_cast<int>(k));
     }

@@ -114,6 +114,10 @@ void ToolGeometry::Check() const {
           "ToolGeometry '" + name + "': markers are collinear");
 }
 
+Eigen::Vector3d MarkerPlaneNormal(const ToolGeometry& tool) {
+  return ComputePrincipalAxes(tool.markers_in_tool).axes.col(2);  // the least spread
+}
+
 ToolGeometryReport AnalyzeToolGeometry(const ToolGeometry& tool,
                                        std::span<const ToolGeometry> others) {
   tool.Check();

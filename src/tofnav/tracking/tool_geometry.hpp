@@ -35,6 +35,10 @@ struct ToolGeometry {
   void Check() const;
 };
 
+/// The unit normal of the markers' least-squares plane in `tool` (the tape's normal for a flat
+/// disc tool; its sign is arbitrary). Needs >= 3 non-collinear markers (ToolGeometry::Check).
+Eigen::Vector3d MarkerPlaneNormal(const ToolGeometry& tool);
+
 /// How distinct a tool is from itself under relabelling and from others (docs/tracking.md 9.7).
 struct ToolGeometryReport {
   std::vector<double> distances_mm;  // |m_i - m_j| for i < j, in order (0,1), (0,2), ..

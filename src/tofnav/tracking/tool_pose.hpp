@@ -35,7 +35,13 @@ struct ToolPoseOptions {
   PoseRefinementOptions refinement;
   /// Which matched markers the pose uses: damaged ones out, outliers out (robust_pose.hpp).
   RobustPoseOptions robust;
-  double max_fre_mm = 1.0;            // default FRE acceptance (ToolGeometry::max_fre_mm overrides)
+  double max_fre_mm = 1.0;  // default FRE acceptance (ToolGeometry::max_fre_mm overrides)
+  /// f_rf's entrance-angle term (MarkerRangeModel::entrance_gain_mm_per_rad): retro sheeting at
+  /// entrance angle beta reads farther by gain x beta. The pose gives each matched marker's beta
+  /// (a disc: the markers' plane normal against its ray; a sphere: each core pixel's incidence on
+  /// it); its ranges are shortened by gain x beta and the pose fitted again
+  /// (EstimateToolPoses; docs/tracking.md 4). 0: none (Eq. 2 alone).
+  double marker_entrance_gain_mm_per_rad = 0.0;
   double occlusion_penalty_mm = 0.5;  // score per unseen marker
   /// Temporal prior: score += prior_weight * min(mean marker distance from the predicted pose,
   /// prior_cap_mm). Dimensionless weight.

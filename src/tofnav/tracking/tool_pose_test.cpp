@@ -269,5 +269,45 @@ TEST(EstimateToolPoses, RefinementWeighsRaysOverRangesAndKeepsFreMeaningful) {
   EXPECT_THROW(EstimateToolPoses(d, tools, {}, bad), std::invalid_argument);
 }
 
+TEST(EstimateToolPoses, DiscRangesLongByTheirEntranceAngleAreCorrectedFromThePose) {
+  // A flat tape tool tilted 0.7 rad at 450 mm: each disc reads farther by 2.1 mm per radian of
+  // its entrance angle (the simulator's tape, docs/simulator.md 10). Without the term the pose
+  // sits about 1.5 mm too far; with it, within the refinement's rounding of exact data.
+  constexpr double kGainMmPerRad = 2.1;
+  constexpr double kPixelPitchRad = 1.0 / 254.0;
+  constexpr double kCorrectedTolMm = 0.05;  // one refit: beta is off by the first pose's tilt
+  ToolGeometry tool;
+  tool.name = "tape";
+  tool.marker_type = MarkerType::kDisc;
+  tool.marker_diameter_mm = 10.0;
+  tool.markers_in_tool = {{-35, -5, 0}, {30, 0, 0}, {5, -30, 0}, {-5, 42, 0}};
+  const ToolGeometry tools[] = {tool};
+  const Rigid3d truth = testing::FacingToolPose({20.0, -10.0, 450.0}, 0.7, 0.3);
+  const Eigen::Vector3d normal = truth.rotation * Eigen::Vector3d::UnitZ();
+  std::vector<DetectedMarker> d;
+  for (const Eigen::Vector3d& m : tool.markers_in_tool) {
+    const Eigen::Vector3d c = truth * m;
+    const double beta = std::acos(std::abs(normal.dot(c.normalized())));
+    d.push_back(testing::DetectionAt(c.normalized() * (c.norm() + kGainMmPerRad * beta), 0.0));
+    d.back().pixel_pitch_rad = kPixelPitchRad;
+  }
+  const ToolPoseResult plain = EstimateToolPoses(d, tools, {}, ToolPoseOptions{})[0];
+  ToolPoseOptions options;
+  options.marker_entrance_gain_mm_per_rad = kGainMmPerRad;
+  const ToolPoseResult corrected = EstimateToolPoses(d, tools, {}, options)[0];
+  ASSERT_EQ(plain.status, ToolStatus::kOk);
+  ASSERT_EQ(corrected.status, ToolStatus::kOk);
+  EXPECT_GT(TranslationDistanceMm(*plain.ahat_from_tool, truth), 1.0);
+  EXPECT_LT(TranslationDistanceMm(*corrected.ahat_from_tool, truth), kCorrectedTolMm);
+  // A sphere tool's hand-made detections carry no core pixels to place the term on: unchanged.
+  ToolGeometry spheres = tool;
+  spheres.marker_type = MarkerType::kSphere;
+  const ToolGeometry sphere_tools[] = {spheres};
+  EXPECT_LT(TranslationDistanceMm(
+                *EstimateToolPoses(d, sphere_tools, {}, options)[0].ahat_from_tool,
+                *EstimateToolPoses(d, sphere_tools, {}, ToolPoseOptions{})[0].ahat_from_tool),
+            1e-12);
+}
+
 }  // namespace
 }  // namespace tofnav
