@@ -104,11 +104,10 @@ FrameRenderer::Shading FrameRenderer::Shade(const RayHit& hit, const Eigen::Vect
   const Material& material = scene_.materials[static_cast<std::size_t>(hit.material)];
   const BiasMode mode = options_.bias_mode;
   const bool subsurface = mode == BiasMode::kPhysical && material.subsurface_fraction > 0.0;
-  const bool need_incidence = truth ||
-                              (mode == BiasMode::kModel && material.model_c3_mm_per_rad != 0.0) ||
-                              (subsurface && material.subsurface_angle_gain_per_rad != 0.0) ||
-                              (material.retro_reflective &&
-                               material.retro_angle_gain_mm_per_rad != 0.0);
+  const bool need_incidence =
+      truth || (mode == BiasMode::kModel && material.model_c3_mm_per_rad != 0.0) ||
+      (subsurface && material.subsurface_angle_gain_per_rad != 0.0) ||
+      (material.retro_reflective && material.retro_angle_gain_mm_per_rad != 0.0);
   Shading s;
   const double cos_incidence = -hit.normal_in_ahat.dot(ray);
   if (need_incidence) s.incidence_rad = std::acos(std::min(1.0, std::abs(cos_incidence)));
