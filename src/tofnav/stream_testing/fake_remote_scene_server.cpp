@@ -96,8 +96,9 @@ void FakeRemoteSceneServer::Commit(bool end_of_display_list) {
     committed_ = working_;
     callback = on_display_list_;
   }
-  changed_.notify_all();
+  // The callback first: a waiter woken by the count then sees what the callback recorded.
   if (callback && end_of_display_list) callback(working_);
+  changed_.notify_all();
 }
 
 std::uint32_t FakeRemoteSceneServer::Process(const RemoteSceneCommand& command) {
