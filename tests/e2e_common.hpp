@@ -15,16 +15,20 @@ namespace tofnav::testing {
 
 /// The simulator's whole range error of retro hits as a function of the *measured* range:
 /// f_rf(d) at the true range plus the wiggle at the observed range (tof_model), interpolated
-/// (p = 1) on 1 mm steps of the true range over 150-1000 mm.
-inline MarkerRangeModel TrueRangeModel(sim::RetroCurve curve, double amplitude_mm,
+/// (p = 1) on 1 mm steps of the true range over 150-1000 mm, with the sheeting's own
+/// entrance-angle gain (docs/tracking.md 4).
+inline MarkerRangeModel TrueRangeModel(const sim::Material& retro,
                                        const sim::SensorOptions& sensor) {
   std::vector<MarkerRangeSample> samples;
   for (double d = 150.0; d <= 1000.0; d += 1.0) {
-    const double observed = d + sim::RetroRangeBiasMm(curve, amplitude_mm, d);
+    const double observed =
+        d + sim::RetroRangeBiasMm(retro.retro_curve, retro.retro_curve_amplitude_mm, d);
     const double total = observed + sim::WiggleMm(sensor, observed) - d;
     samples.push_back({d + total, total, 1.0});
   }
-  return FitMarkerRangeModel(samples, {.smoothing_p = 1.0}).model;
+  MarkerRangeModel model = FitMarkerRangeModel(samples, {.smoothing_p = 1.0}).model;
+  model.entrance_gain_mm_per_rad = retro.retro_angle_gain_mm_per_rad;
+  return model;
 }
 
 /// Root mean square of the values.

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <string>
 #include <vector>
@@ -45,15 +46,14 @@ inline Rigid3d FacingToolPose(const Eigen::Vector3d& position_in_ahat, double ti
 
 /// A scene with a diffuse wall `wall_behind_mm` behind z = wall_z_mm and no tools yet; returns
 /// the retro-reflective material index through `retro`.
-/// `retro_angle_gain_mm_per_rad`: the sheeting's entrance-angle term (0: the preset's).
+/// `retro_angle_gain_mm_per_rad`: the sheeting's entrance-angle term (unset: the preset's).
 inline sim::Scene WallScene(double wall_z_mm, int& retro,
                             sim::RetroCurve curve = sim::RetroCurve::kLinear,
-                            double retro_angle_gain_mm_per_rad = 0.0) {
+                            std::optional<double> retro_angle_gain_mm_per_rad = std::nullopt) {
   sim::Scene scene;
   const int wall = scene.AddMaterial(sim::DiffuseMaterial(0.5));
   sim::Material tape = sim::RetroReflectiveMaterial(curve);
-  if (retro_angle_gain_mm_per_rad != 0.0)
-    tape.retro_angle_gain_mm_per_rad = retro_angle_gain_mm_per_rad;
+  if (retro_angle_gain_mm_per_rad) tape.retro_angle_gain_mm_per_rad = *retro_angle_gain_mm_per_rad;
   retro = scene.AddMaterial(tape);
   const Eigen::Quaterniond flip(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()));
   scene.AddObject("wall", sim::PlaneMesh(6000.0, 6000.0), wall,

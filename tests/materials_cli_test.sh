@@ -10,19 +10,9 @@ tests=$2
 scratch=$(mktemp -d)
 trap 'rm -rf "$scratch"' EXIT
 "$tofnav" simulate "$tests/scenarios/materials_brief.json" --out "$scratch/m" -q >/dev/null
-# f_rf as the set-up phase would measure it: the retro curve (linear over 300-700 mm) plus wiggle.
-/usr/bin/python3 - "$scratch/m/truth.json" "$scratch/frf.json" <<'PY'
-import json, math, sys
-t = json.load(open(sys.argv[1])); s = t['render']['sensor']
-a = next(m for m in t['materials'] if m['retro_reflective'])['retro_curve_amplitude_mm']
-def bias(d):  # measured - true at true range d
-    o = d + a * (d - 300.0) / 400.0
-    return o + s['wiggle_amplitude_mm'] * math.sin(2 * math.pi * o / s['wiggle_period_mm'] + s['wiggle_phase_rad']) - d
-ds = [150.0 + 5.0 * i for i in range(171)]
-json.dump({"format": "tofnav-marker-range-error", "version": 1, "range_unit": "mm", "smoothing_p": 1.0,
-           "knots_mm": [d + bias(d) for d in ds], "bias_mm": [bias(d) for d in ds],
-           "second_derivative_per_mm": [0.0] * len(ds)}, open(sys.argv[2], 'w'))
-PY
+# f_rf as the set-up phase would measure it: the retro curve (linear over 300-700 mm) plus wiggle,
+# with the tape's entrance-angle gain.
+/usr/bin/python3 "$tests/true_marker_range.py" "$scratch/m" "$scratch/frf.json"
 "$tofnav" evaluate materials "$scratch/m/rm_depth_ahat.bin" --truth "$scratch/m" \
   --marker-error "$scratch/frf.json" --scenario "$tests/scenarios/materials_brief.json" -q
 "$tofnav" evaluate materials "$scratch/m/rm_depth_ahat.bin" --truth "$scratch/m" \

@@ -68,8 +68,7 @@ inline EvdCase MakeEvdCase(std::int64_t frames, bool instrument) {
   }
   const sim::Material& retro =
       scene.materials[static_cast<std::size_t>(ref.markers.front().material)];
-  n.marker_range =
-      TrueRangeModel(retro.retro_curve, retro.retro_curve_amplitude_mm, c.scenario.render.sensor);
+  n.marker_range = TrueRangeModel(retro, c.scenario.render.sensor);
   if (instrument) {
     c.instrument_from_image = other.scene_from_tool.Inverse() * mount_from_image;
     const Trajectory& t = n.plan.front();

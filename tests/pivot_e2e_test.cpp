@@ -38,10 +38,11 @@ TEST(PivotE2E, TipWithinHalfAMillimetreOfTheTruth) {
       testing::ToolFromSim(tool)};
   const sim::Material& retro =
       scene.materials[static_cast<std::size_t>(tool.markers.front().material)];
-  const MarkerRangeModel f_rf = testing::TrueRangeModel(
-      retro.retro_curve, retro.retro_curve_amplitude_mm, scenario.render.sensor);
+  const MarkerRangeModel f_rf = testing::TrueRangeModel(retro, scenario.render.sensor);
   sim::Simulator simulator(scenario);
-  ToolTracker tracker(tools, {.filter_enabled = false});
+  ToolTracker tracker(tools,
+                      {.pose = {.marker_entrance_gain_mm_per_rad = f_rf.entrance_gain_mm_per_rad},
+                       .filter_enabled = false});
   std::vector<Rigid3d> reference_from_instrument;
   int frames = 0;
   while (!simulator.done()) {

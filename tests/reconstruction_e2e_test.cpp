@@ -114,8 +114,7 @@ std::filesystem::path WriteTrueDepthModel(const sim::Scenario& s, const std::str
   }
   for (const sim::Material& m : s.scene.materials) {
     if (!m.retro_reflective) continue;
-    file.marker_range =
-        testing::TrueRangeModel(m.retro_curve, m.retro_curve_amplitude_mm, s.render.sensor);
+    file.marker_range = testing::TrueRangeModel(m, s.render.sensor);
     break;
   }
   const std::filesystem::path path = dir / "depth_model.json";

@@ -33,8 +33,9 @@ nlohmann::ordered_json RowJson(const FidelityRow& r) {
 int RunEvaluateFidelity(int argc, char** argv) {
   CLI::App app{
       "The published measurements of real HoloLens 2 devices re-done on the simulator, each with "
-      "its own protocol (the tape on a linear stage, the materials plate, Table I's phantoms, "
-      "the skin study): published, ours, within the published spread (docs/simulator.md 10)",
+      "its own protocol (the tape on a linear stage, STTAR's sphere markers, the materials "
+      "plate, Table I's phantoms, the skin study): published, ours, within the published spread "
+      "(docs/simulator.md 10)",
       "tofnav evaluate fidelity"};
   AddConfigOptions(app);
   FidelityOptions options;
@@ -47,19 +48,32 @@ int RunEvaluateFidelity(int argc, char** argv) {
       ->check(CLI::Range(0.05, 20.0));
   app.add_option("--participants", options.participants, "the skin study's participants")
       ->check(CLI::Range(2, 100));
-  app.add_option("--only", options.only, "run only these experiments (repeatable)")
+  app.add_option("--marker-positions", options.marker_positions,
+                 "STTAR markers: static positions of the sphere tool over 350-700 mm")
+      ->check(CLI::Range(2, 148));
+  app.add_option("--only", options.only,
+                 "run only these experiments (repeatable): tape, markers (STTAR's sphere tool), "
+                 "materials, phantoms, skin")
       ->check(CLI::IsMember(FidelityExperiments()));
   double multipath_gain = 1.0;
   app.add_option("--multipath-gain", multipath_gain,
                  "one-bounce multipath of every simulation: 1 the simulator's default, 0 off "
                  "(to see what the indirect light does to each row)")
       ->check(CLI::Range(0.0, 1.0));
+  std::optional<double> floor_exponent;
+  app.add_option("--noise-floor-exponent", floor_exponent,
+                 "the range noise floor grows as (range / 350 mm)^E in every simulation (unset: "
+                 "the simulator's default, 0: flat; docs/simulator.md 10.1)")
+      ->check(CLI::Range(0.0, 4.0));
   app.add_flag("--json", json, "print fidelity.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");
   TOFNAV_PARSE(app, argc, argv);
   options.out = out;
-  if (multipath_gain != 1.0) {
-    options.vary = [multipath_gain](sim::Scenario& s) { s.render.multipath.gain = multipath_gain; };
+  if (multipath_gain != 1.0 || floor_exponent) {
+    options.vary = [multipath_gain, floor_exponent](sim::Scenario& s) {
+      s.render.multipath.gain = multipath_gain;
+      if (floor_exponent) s.render.noise.depth_sigma_floor_exponent = *floor_exponent;
+    };
   }
   std::filesystem::create_directories(out);
   std::unique_ptr<ProgressBar> bar;

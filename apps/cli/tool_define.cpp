@@ -50,6 +50,7 @@ int RunToolDefine(int argc, char** argv) {
   for (const std::filesystem::path& p : other_paths) others.push_back(ReadToolFile(p));
   MarkerRangeModel model;
   if (!marker_error_path.empty()) model = ReadMarkerRangeJson(marker_error_path).model;
+  options.marker_entrance_gain_mm_per_rad = model.entrance_gain_mm_per_rad;
   const MarkerSource source = OpenMarkerSource(source_args);
   std::vector<std::vector<DetectedMarker>> frames(source.frames);
   ProgressBar progress("tool-define", quiet || json);

@@ -63,7 +63,8 @@ OrderedJson RangeToJson(const MarkerRangeModel& model) {
                      {"smoothing_p", model.smoothing_p},
                      {"knots_mm", model.bias_mm.x},
                      {"bias_mm", model.bias_mm.value},
-                     {"second_derivative_per_mm", model.bias_mm.second_derivative}};
+                     {"second_derivative_per_mm", model.bias_mm.second_derivative},
+                     {"entrance_gain_mm_per_rad", model.entrance_gain_mm_per_rad}};
 }
 
 MarkerRangeModel RangeFromJson(const OrderedJson& json, const Path& path) {
@@ -77,6 +78,10 @@ MarkerRangeModel RangeFromJson(const OrderedJson& json, const Path& path) {
   model.bias_mm.value = Numbers(Member(json, "bias_mm", path, "$"), path, "bias_mm");
   model.bias_mm.second_derivative = Numbers(Member(json, "second_derivative_per_mm", path, "$"),
                                             path, "second_derivative_per_mm");
+  // f_rf's entrance-angle term (docs/tracking.md 4); absent in files written before it: 0.
+  if (const auto gain = json.find("entrance_gain_mm_per_rad"); gain != json.end()) {
+    model.entrance_gain_mm_per_rad = FiniteJsonNumber(*gain, path, "entrance_gain_mm_per_rad");
+  }
   try {
     model.Check();
   } catch (const std::invalid_argument& e) {

@@ -35,6 +35,7 @@ DepthModelFile Example() {
   range.bias_mm.value = {0.0, 2.0, 4.0};
   range.bias_mm.second_derivative = {0.0, 0.0, 0.0};
   range.smoothing_p = 0.5;
+  range.entrance_gain_mm_per_rad = 1.9;  // the tape's entrance-angle term travels with f_rf
   file.marker_range = range;
   return file;
 }
@@ -54,6 +55,7 @@ TEST(DepthModelJson, RoundTripsModelRangeAndReport) {
   EXPECT_TRUE(std::isnan(out.model.report.standard_errors[2]));
   EXPECT_EQ(out.model.report.cross_validation[0].first, "linear-theta");
   EXPECT_EQ(out.marker_range->bias_mm.x, in.marker_range->bias_mm.x);
+  EXPECT_EQ(out.marker_range->entrance_gain_mm_per_rad, 1.9);
   EXPECT_TRUE(out.model.multipath.enabled);
   EXPECT_EQ(out.model.multipath.ab_scale, 71.5);
   EXPECT_EQ(out.model.multipath.passes, 3);

@@ -105,4 +105,16 @@ std::vector<DetectedMarker> CorrectMarkerRanges(std::vector<DetectedMarker> mark
   return markers;
 }
 
+void ShortenTapePoints(std::span<Eigen::Vector3d> points_in_ahat, const Eigen::Vector3d& normal,
+                       double gain_mm_per_rad) {
+  if (gain_mm_per_rad == 0.0) return;
+  const Eigen::Vector3d n = normal.normalized();
+  for (Eigen::Vector3d& p : points_in_ahat) {
+    const double range = p.norm();
+    if (!(range > 0.0)) continue;
+    const double entrance_rad = std::acos(std::min(1.0, std::abs(n.dot(p)) / range));
+    p *= (range - gain_mm_per_rad * entrance_rad) / range;
+  }
+}
+
 }  // namespace tofnav

@@ -61,5 +61,9 @@ Eigen::Vector3d CorrectMarkerPoint(const Eigen::Vector3d& point_in_ahat,
 /// over a marker's few-mm range spread, so one shift per marker suffices.
 std::vector<DetectedMarker> CorrectMarkerRanges(std::vector<DetectedMarker> markers,
                                                 const MarkerRangeModel& model);
+/// f_rf's entrance-angle term on flat tape (docs/tracking.md 4): each point's range shortened by
+/// gain x the angle between its ray (from the camera at the origin) and the tape's `normal`.
+void ShortenTapePoints(std::span<Eigen::Vector3d> points_in_ahat, const Eigen::Vector3d& normal,
+                       double gain_mm_per_rad);
 
 }  // namespace tofnav

@@ -48,6 +48,17 @@ std::optional<CubicBasis> FitPatchCubic(const MarkerPatch& patch, const DepthErr
   return ldlt.solve(Eigen::Map<const CubicBasis>(atb.data()));
 }
 
+// The cubic's unit normal in `ahat` at local (x, y).
+Eigen::Vector3d CubicNormal(const MarkerPatch& patch, const CubicBasis& c, double x, double y) {
+  const double fx =
+      c(1) + 2.0 * c(3) * x + c(4) * y + 3.0 * c(6) * x * x + 2.0 * c(7) * x * y + c(8) * y * y;
+  const double fy =
+      c(2) + c(4) * x + 2.0 * c(5) * y + c(7) * x * x + 2.0 * c(8) * x * y + 3.0 * c(9) * y * y;
+  return (patch.local_from_ahat.transpose() *
+          Eigen::Vector3d(-fx / patch.scale_mm, -fy / patch.scale_mm, 1.0))
+      .normalized();
+}
+
 }  // namespace
 
 std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErrorModel& model) {
@@ -67,20 +78,22 @@ std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErr
 bool SetIncidenceFromPatchSurface(MarkerPatch& patch, const DepthErrorModel& model) {
   const std::optional<CubicBasis> c = FitPatchCubic(patch, model);
   if (!c) return false;
-  const Eigen::Matrix3d ahat_from_local = patch.local_from_ahat.transpose();
   for (SurfaceSample& s : patch.neighbours) {
     const Eigen::Vector3d p = ToLocal(patch, CorrectedPoint(s, model));
-    const double x = p.x(), y = p.y();
-    const double fx = (*c)(1) + 2.0 * (*c)(3) * x + (*c)(4) * y + 3.0 * (*c)(6) * x * x +
-                      2.0 * (*c)(7) * x * y + (*c)(8) * y * y;
-    const double fy = (*c)(2) + (*c)(4) * x + 2.0 * (*c)(5) * y + (*c)(7) * x * x +
-                      2.0 * (*c)(8) * x * y + 3.0 * (*c)(9) * y * y;
-    const Eigen::Vector3d n =
-        ahat_from_local * Eigen::Vector3d(-fx / patch.scale_mm, -fy / patch.scale_mm, 1.0);
-    const double cosine = std::abs(n.normalized().dot(s.ray.cast<double>().normalized()));
+    const Eigen::Vector3d n = CubicNormal(patch, *c, p.x(), p.y());
+    const double cosine = std::abs(n.dot(s.ray.cast<double>().normalized()));
     s.incidence_rad = static_cast<float>(std::acos(std::min(1.0, cosine)));
   }
   return true;
+}
+
+std::optional<Eigen::Vector3d> PatchSurfaceNormal(const MarkerPatch& patch,
+                                                  const Eigen::Vector3d& point_in_ahat,
+                                                  const DepthErrorModel& model) {
+  const std::optional<CubicBasis> c = FitPatchCubic(patch, model);
+  if (!c) return std::nullopt;
+  const Eigen::Vector3d p = ToLocal(patch, point_in_ahat);
+  return CubicNormal(patch, *c, p.x(), p.y());
 }
 
 void CorrectnessOptions::Check() const {

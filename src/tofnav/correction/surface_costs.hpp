@@ -26,6 +26,13 @@ std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErr
 /// false (and changes nothing) when the fit is singular.
 bool SetIncidenceFromPatchSurface(MarkerPatch& patch, const DepthErrorModel& model);
 
+/// The unit normal, in `ahat`, of the cubic surface fitted to the neighbours corrected with
+/// `model`, below `point_in_ahat` (a sticker's centre: the skin it lies on). nullopt when the fit
+/// is singular or the patch has fewer than 20 neighbours.
+std::optional<Eigen::Vector3d> PatchSurfaceNormal(const MarkerPatch& patch,
+                                                  const Eigen::Vector3d& point_in_ahat,
+                                                  const DepthErrorModel& model);
+
 /// Eq. (5) of one frame.
 struct CorrectnessOptions {
   IcpOptions icp = [] {

@@ -47,7 +47,8 @@ void SimulateForFidelity(const FidelityOptions& options, const sim::Scenario& sc
 }
 
 const std::vector<std::string>& FidelityExperiments() {
-  static const std::vector<std::string> names = {"tape", "materials", "phantoms", "skin"};
+  static const std::vector<std::string> names = {"tape", "markers", "materials", "phantoms",
+                                                 "skin"};
   return names;
 }
 
@@ -59,10 +60,11 @@ FidelityResult RunFidelity(const FidelityOptions& options) {
            std::find(options.only.begin(), options.only.end(), name) != options.only.end();
   };
   MarkerRangeModel frf;
-  if (wanted("tape") || wanted("materials") || wanted("skin")) {
+  if (wanted("tape") || wanted("markers") || wanted("materials") || wanted("skin")) {
     FidelityTapeStage(options, result, frf);
     if (!wanted("tape")) result.rows.clear();  // run for its f_rf only
   }
+  if (wanted("markers")) FidelitySttarMarkers(options, frf, result);
   if (wanted("materials")) FidelityMaterials(options, frf, result);
   if (wanted("phantoms")) FidelityPhantoms(options, result);
   if (wanted("skin")) FidelitySkinStudy(options, frf, result);

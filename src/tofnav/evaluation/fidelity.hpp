@@ -46,8 +46,12 @@ struct FidelityOptions {
   std::int64_t phantom_frames = 30;  // Table I: frames averaged per pixel (paper: 300)
   std::int64_t stage_frames = 160;   // the tape on the linear stage, four runs
   std::int64_t station_frames = 2;   // materials: frames per station (90 stations)
+  /// STTAR's sphere tool (sim::MarkerNoiseProtocol): static positions over 350-700 mm, and the
+  /// frames of each of a position's two holds (static, then moved 20 mm along z; >= 12 frames).
+  int marker_positions = 12;
+  std::int64_t marker_hold_frames = 18;
   /// The experiments to run (names as FidelityExperiments()); empty: all. The tape stage runs
-  /// whenever materials or the skin study does (its f_rf corrects their markers).
+  /// whenever materials, the skin study or the markers do (its f_rf corrects their markers).
   std::vector<std::string> only;
   /// Applied to every scene before it is simulated (e.g. a render setting under study); optional.
   std::function<void(sim::Scenario&)> vary;
@@ -59,11 +63,11 @@ struct FidelityResult {
   nlohmann::ordered_json details;  // per experiment: the figures behind the rows
 };
 
-/// The experiments' names: "tape", "materials", "phantoms", "skin".
+/// The experiments' names: "tape", "markers", "materials", "phantoms", "skin".
 const std::vector<std::string>& FidelityExperiments();
 
-/// Runs every experiment in order: the tape on the linear stage (whose f_rf the others use), the
-/// materials plate, Table I's phantoms, the skin study.
+/// Runs every experiment in order: the tape on the linear stage (whose f_rf the others use),
+/// STTAR's sphere markers, the materials plate, Table I's phantoms, the skin study.
 FidelityResult RunFidelity(const FidelityOptions& options);
 
 /// Simulates `scenario` into `dir` (SAME+RAW) at `seed`, progress under `label`.
@@ -74,6 +78,8 @@ void SimulateForFidelity(const FidelityOptions& options, const sim::Scenario& sc
 // The experiments, each appending its rows and details (fidelity_*.cpp).
 void FidelityTapeStage(const FidelityOptions& options, FidelityResult& result,
                        MarkerRangeModel& frf);
+void FidelitySttarMarkers(const FidelityOptions& options, const MarkerRangeModel& frf,
+                          FidelityResult& result);
 void FidelityMaterials(const FidelityOptions& options, const MarkerRangeModel& frf,
                        FidelityResult& result);
 void FidelityPhantoms(const FidelityOptions& options, FidelityResult& result);

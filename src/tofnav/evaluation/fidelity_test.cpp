@@ -1,8 +1,11 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The fidelity rows' bands: a published spread, or +-25 % of a figure published without one.
+// The fidelity rows' bands: a published spread, or +-25 % of a figure published without one;
+// the experiments' order.
 #include "tofnav/evaluation/fidelity.hpp"
 
 #include <gtest/gtest.h>
+
+#include <algorithm>
 
 namespace tofnav {
 namespace {
@@ -25,6 +28,14 @@ TEST(FidelityRow, WithoutASpreadTheBandIsAQuarterEitherSide) {
   EXPECT_TRUE(r.within());
   EXPECT_FALSE(MakeFidelityRow("a", "b", "c", 4.0, std::nullopt, 5.01).within());
   EXPECT_FALSE(MakeFidelityRow("a", "b", "c", 4.0, std::nullopt, std::nan("")).within());
+}
+
+TEST(FidelityExperiments, TheMarkersRunAfterTheTapeWhoseFrfTheyUse) {
+  const std::vector<std::string>& names = FidelityExperiments();
+  const auto tape = std::find(names.begin(), names.end(), "tape");
+  const auto markers = std::find(names.begin(), names.end(), "markers");
+  ASSERT_NE(markers, names.end());
+  EXPECT_LT(tape, markers);
 }
 
 }  // namespace

@@ -45,8 +45,15 @@ bool StudyFrame(const AhatFrame& frame, const TruthHits& truth, const AhatCamera
       tape_pixels.emplace_back(u, v);
     }
   }
-  const std::optional<ReferencePlane> plane = FitReferencePlane(tape_points);
+  std::optional<ReferencePlane> plane = FitReferencePlane(tape_points);
   if (!plane) return false;
+  // f_rf's entrance-angle term (docs/tracking.md 4): the tape reads farther by g x its entrance
+  // angle, the plane's against each pixel's ray; shortened, then the plane fitted again.
+  if (settings.frf && settings.frf->entrance_gain_mm_per_rad != 0.0) {
+    ShortenTapePoints(tape_points, plane->normal, settings.frf->entrance_gain_mm_per_rad);
+    plane = FitReferencePlane(tape_points);
+    if (!plane) return false;
+  }
   plane_rms.push_back(plane->rms_mm);
   const auto add = [&](int material, const Eigen::Vector3d& x, float truth_range_mm) {
     const std::optional<double> e = ReferenceDepthErrorMm(*plane, x);

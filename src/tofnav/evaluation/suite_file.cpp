@@ -45,6 +45,9 @@ void ReadCase(JsonFields& in, SuiteCase& c) {
   in.Read("no_hand_rate_hz", v.no_hand_rate_hz);
   in.Read("slam_translation_sigma_mm", v.slam_translation_sigma_mm);
   in.Read("slam_rotation_sigma_rad", v.slam_rotation_sigma_rad);
+  in.Read("skin_albedo", v.skin_albedo);
+  in.Read("headset_min_range_mm", v.headset_min_range_mm);
+  in.Read("headset_max_range_mm", v.headset_max_range_mm);
 }
 
 // The suite's own checks beyond the schema: names, derived heads, devices, the variation.

@@ -90,4 +90,21 @@ void ShiftMarkerRange(DetectedMarker& marker, double shift_mm) {
   for (CoreSample& s : marker.core) s.range_mm += static_cast<float>(shift_mm);
 }
 
+void ShiftSphereEntranceAngles(DetectedMarker& marker, const Eigen::Vector3d& centre_in_ahat,
+                               double radius_mm, double gain_mm_per_rad) {
+  if (marker.core.empty()) return;  // hand-made detections: no pixels to say where they lie
+  const double centre_range_mm = centre_in_ahat.norm();
+  const Eigen::Vector3d towards = centre_in_ahat / centre_range_mm;
+  double sum_mm = 0.0;
+  for (CoreSample& s : marker.core) {
+    const double cos_alpha = std::min(1.0, towards.dot(s.ray_in_ahat.cast<double>().normalized()));
+    const double sin_alpha = std::sqrt(std::max(0.0, 1.0 - cos_alpha * cos_alpha));
+    const double sin_beta = std::min(1.0, centre_range_mm * sin_alpha / radius_mm);
+    const double shift_mm = -gain_mm_per_rad * std::asin(sin_beta);
+    s.range_mm += static_cast<float>(shift_mm);
+    sum_mm += shift_mm;
+  }
+  marker.surface_range_mm += sum_mm / static_cast<double>(marker.core.size());
+}
+
 }  // namespace tofnav

@@ -49,10 +49,13 @@ struct MarkerDetectionOptions {
   /// occluder_ring_outer_px) is an occluder when its range is shorter than the marker's surface
   /// range by more than occluder_margin_mm + d * pixel pitch * tan(55 deg) [mm]: something in
   /// front, not the marker's own tool plate (tilted up to the tape's 55 deg cut-off, it rises by at
-  /// most that much over d pixels), nor range noise. Pixels 1-2 px from the blob hold some of the
+  /// most that much over d pixels), nor range noise, nor the tape's own long reading (f_rf up to
+  /// 4 mm, and 2 mm more at 55 deg from its entrance-angle term, docs/tracking.md 4: 10 mm let a
+  /// 55 deg plate through before session 28's calibrated tape, 12 mm does with it). Pixels 1-2 px
+  /// from the blob hold some of the
   /// marker's light: a phasor mix of it and a far background reads any range, shorter ones too
   /// (the 1055 mm ambiguity), so they are not looked at.
-  double occluder_margin_mm = 10.0;
+  double occluder_margin_mm = 12.0;
   int occluder_ring_inner_px = 3;
   int occluder_ring_outer_px = 4;
   int min_occluder_px = 2;  // occluder pixels that make a blob `occluded` (one may be a flier)

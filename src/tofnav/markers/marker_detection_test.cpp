@@ -53,7 +53,10 @@ TEST(LocateMarkers, IdealSphereGivesItsCentre) {
 }
 
 TEST(LocateMarkers, RealisticSpheresAreWithinAFewTenthsAcrossTheWorkingRange) {
-  constexpr double kMeanRangeTolMm = 0.25;  // acceptance: no f_rf, wiggle off; noise averages
+  // Acceptance: no f_rf, wiggle off; noise averages. The sheeting's entrance-angle term (about
+  // +1 mm over a sphere's face, docs/tracking.md 4) is taken off as tracking does, per core pixel.
+  constexpr double kMeanRangeTolMm = 0.25;
+  const double gain_mm_per_rad = sim::RetroReflectiveMaterial().retro_angle_gain_mm_per_rad;
   constexpr double kLateralTolMm = 0.25;
   sim::RenderOptions options;
   options.sensor.wiggle_amplitude_mm = 0.0;
@@ -66,8 +69,12 @@ TEST(LocateMarkers, RealisticSpheresAreWithinAFewTenthsAcrossTheWorkingRange) {
                                                          static_cast<std::uint64_t>(seed), options);
       const MarkerDetectionResult detected = LocateMarkers(r.frame, TestCamera());
       ASSERT_EQ(detected.markers.size(), 1u) << z_mm;
+      DetectedMarker marker = detected.markers[0];
+      ShiftSphereEntranceAngles(
+          marker, marker.ray_in_ahat * (marker.surface_range_mm + kSphereDiameterMm / 2),
+          kSphereDiameterMm / 2, gain_mm_per_rad);
       const Eigen::Vector2d e =
-          RangeAndLateralError(MarkerCentre(detected.markers[0], kSphereDiameterMm / 2), truth);
+          RangeAndLateralError(MarkerCentre(marker, kSphereDiameterMm / 2), truth);
       range_sum += e.x();
       EXPECT_LT(e.y(), kLateralTolMm) << z_mm;
     }

@@ -52,6 +52,8 @@ constexpr Field<NoiseOptions> kNoiseFields[] = {
     {"depth_sigma_ref_mm", &NoiseOptions::depth_sigma_ref_mm},
     {"depth_sigma_ref_ab", &NoiseOptions::depth_sigma_ref_ab},
     {"depth_sigma_floor_mm", &NoiseOptions::depth_sigma_floor_mm},
+    {"depth_sigma_floor_range_mm", &NoiseOptions::depth_sigma_floor_range_mm},
+    {"depth_sigma_floor_exponent", &NoiseOptions::depth_sigma_floor_exponent},
     {"depth_correlation_px", &NoiseOptions::depth_correlation_px}};
 
 using sim::ScatterOptions;

@@ -259,7 +259,9 @@ void FrameRenderer::FinishRow(int v, const FrameBuffers& buffers, RenderResult& 
     // Step 6: phase to range mod L, then wiggle and AB-dependent noise.
     double range_mm = std::arg(z) / two_pi_over_alias_;
     range_mm += WiggleMm(sensor, range_mm);
-    const double sigma_mm = DepthNoiseSigmaMm(noise, ab_true);
+    // arg() is in (-pi, pi]: the floor's range is the wrapped one, in [0, alias).
+    const double sigma_mm =
+        DepthNoiseSigmaMm(noise, ab_true, range_mm < 0.0 ? range_mm + sensor.alias_mm : range_mm);
     if (std::isfinite(sigma_mm)) range_mm += sigma_mm * buffers.depth_noise(u, v);
     range_mm = std::fmod(range_mm, sensor.alias_mm);
     if (range_mm < 0.0) range_mm += sensor.alias_mm;

@@ -56,7 +56,8 @@ TEST(RenderPhysics, DepthNoiseFollowsTheConfiguredSigmaLaw) {
       const double error = r.frame.range_mm(u, v) - BoardRangeMm(u, v, distance_mm);
       sum += error;
       sum2 += error * error;
-      const double sigma = DepthNoiseSigmaMm(options.noise, r.frame.ab(u, v));
+      const double sigma =
+          DepthNoiseSigmaMm(options.noise, r.frame.ab(u, v), BoardRangeMm(u, v, distance_mm));
       law2 += sigma * sigma + 1.0 / 12.0;  // plus the 1 mm rounding
       ++n;
     });
@@ -116,6 +117,8 @@ TEST(RenderPhysics, RetroSheetingReadsFartherByItsEntranceAngleGain) {
   options.bias_mode = BiasMode::kPhysical;
   options.window = WindowAround(CentrePixel().x(), CentrePixel().y(), 30);
   Material tape = RetroReflectiveMaterial(RetroCurve::kNone);
+  EXPECT_EQ(tape.retro_angle_gain_mm_per_rad, kGainMmPerRad);  // the preset's (calibrated) gain
+  tape.retro_angle_gain_mm_per_rad = 0.0;
   const RenderResult flat = Render(BoardScene(tape, kDistanceMm, kTiltRad), options);
   tape.retro_angle_gain_mm_per_rad = kGainMmPerRad;
   const RenderResult tilted = Render(BoardScene(tape, kDistanceMm, kTiltRad), options);

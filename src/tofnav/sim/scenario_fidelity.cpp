@@ -1,14 +1,18 @@
 // SPDX-License-Identifier: BSD-3-Clause
-// The fidelity scenes, made from the head-identification scene (one upright head with forehead
-// stickers on a table) with the protocol's material, camera and length.
+// The fidelity scenes: the head ones made from the head-identification scene (one upright head
+// with forehead stickers on a table) with the protocol's material, camera and length; STTAR's
+// sphere tool in front of a fixed headset.
 #include "tofnav/sim/scenario_fidelity.hpp"
 
 #include <Eigen/Geometry>
+#include <cmath>
+#include <numbers>
 #include <random>
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/sim/motion.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
+#include "tofnav/sim/tool_presets.hpp"
 
 namespace tofnav::sim {
 namespace {
@@ -29,7 +33,95 @@ Scenario HeadOf(const PatientHead& head, const Material& material) {
   return s;
 }
 
+// The fixed headset of MarkerNoiseScenario: 300 mm above the floor, looking along world -z.
+Rigid3d SttarWorldFromAhat() {
+  const Eigen::Vector3d eye(0.0, 300.0, 0.0);
+  return LookAt(eye, eye - Eigen::Vector3d::UnitZ());
+}
+
+// The markers' centroid in the tool frame (the point placed at each position).
+Eigen::Vector3d SttarCentroidInTool(const Tool& tool) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Marker& m : tool.markers) sum += m.centre_in_tool;
+  return sum / static_cast<double>(tool.markers.size());
+}
+
 }  // namespace
+
+void MarkerNoiseProtocol::Check() const {
+  Require(positions >= 2, "MarkerNoiseProtocol: positions must be >= 2");
+  Require(frames_per_hold >= 1, "MarkerNoiseProtocol: frames_per_hold must be >= 1");
+  Require(min_depth_mm > 0.0, "MarkerNoiseProtocol: min_depth_mm must be > 0");
+  Require(move_mm > 0.0, "MarkerNoiseProtocol: move_mm must be > 0");
+  Require(max_depth_mm - move_mm > min_depth_mm,
+          "MarkerNoiseProtocol: max_depth_mm - move_mm must exceed min_depth_mm");
+  Require(max_lateral_fraction >= 0.0 && max_lateral_fraction <= 0.5,
+          "MarkerNoiseProtocol: max_lateral_fraction must be in [0, 0.5]");
+  Require(max_tilt_rad >= 0.0 && max_tilt_rad <= 1.2,
+          "MarkerNoiseProtocol: max_tilt_rad must be in [0, 1.2]");
+}
+
+std::vector<MarkerNoiseHold> MarkerNoiseHolds(const MarkerNoiseProtocol& protocol) {
+  protocol.Check();
+  const Eigen::Vector3d centroid =
+      SttarCentroidInTool(ToolPreset("spheres-four", kMarkerNoiseToolName, 0));
+  std::mt19937_64 rng(protocol.seed * 1000003ULL + 38ULL);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  const double span_mm = protocol.max_depth_mm - protocol.move_mm - protocol.min_depth_mm;
+  // Facing the camera: the tool's +z (the markers' side) towards -z of `ahat`.
+  const Eigen::Quaterniond facing(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()));
+  std::vector<MarkerNoiseHold> holds;
+  for (int p = 0; p < protocol.positions; ++p) {
+    const double depth_mm = protocol.min_depth_mm + span_mm * p / (protocol.positions - 1);
+    const double lateral_mm = protocol.max_lateral_fraction * depth_mm;
+    const Eigen::Vector3d at(lateral_mm * (2.0 * unit(rng) - 1.0),
+                             lateral_mm * (2.0 * unit(rng) - 1.0), depth_mm);
+    const double tilt_axis_rad = 2.0 * std::numbers::pi * unit(rng);
+    const double tilt_rad = protocol.max_tilt_rad * unit(rng);
+    const double spin_rad = 2.0 * std::numbers::pi * unit(rng);
+    const Eigen::Quaterniond rotation =
+        Eigen::AngleAxisd(tilt_rad,
+                          Eigen::Vector3d(std::cos(tilt_axis_rad), std::sin(tilt_axis_rad), 0.0)) *
+        facing * Eigen::AngleAxisd(spin_rad, Eigen::Vector3d::UnitZ());
+    const Rigid3d still(rotation, at - rotation * centroid);
+    for (const bool moved : {false, true}) {
+      MarkerNoiseHold hold;
+      hold.position = p;
+      hold.moved = moved;
+      hold.first_slot = static_cast<std::int64_t>(holds.size()) * protocol.frames_per_hold;
+      hold.frames = protocol.frames_per_hold;
+      hold.ahat_from_tool = still;
+      if (moved) hold.ahat_from_tool.translation.z() += protocol.move_mm;
+      holds.push_back(hold);
+    }
+  }
+  return holds;
+}
+
+Scenario MarkerNoiseScenario(const MarkerNoiseProtocol& protocol) {
+  const std::vector<MarkerNoiseHold> holds = MarkerNoiseHolds(protocol);
+  Scenario s;
+  s.name = "marker-noise";
+  s.description =
+      "A four-sphere tool (11.5 mm) held static in front of a fixed headset at 350-700 mm, each "
+      "pose then moved 20 mm along the camera's z (STTAR's marker protocol)";
+  s.seed = protocol.seed;
+  const int retro = s.scene.AddMaterial(RetroReflectiveMaterial());
+  const Rigid3d world_from_ahat = SttarWorldFromAhat();
+  s.camera.motion = StaticMotion(world_from_ahat);
+  std::vector<Motion> segments;
+  for (const MarkerNoiseHold& hold : holds) {
+    Motion segment = StaticMotion(world_from_ahat * hold.ahat_from_tool);
+    segment.segment_slots = hold.frames;
+    segments.push_back(std::move(segment));
+  }
+  const int mount = s.AddMount("sphere_holder", SequenceMotion(std::move(segments)));
+  s.AddTool(ToolPreset("spheres-four", kMarkerNoiseToolName, retro), mount);
+  s.timing.drop_probability = 0.0;
+  s.timing.slot_stride = 1;
+  s.frames = static_cast<std::int64_t>(holds.size()) * protocol.frames_per_hold;
+  return s;
+}
 
 Material SkinParticipant(std::uint64_t seed, int index, const SkinSpread& spread) {
   std::mt19937_64 rng(seed * 1000003ULL + static_cast<std::uint64_t>(index));

@@ -66,5 +66,80 @@ TEST(SkinStudyScenario, WearsTheHeadsetAt180To500Millimetres) {
   EXPECT_EQ(s.frames, 50);
 }
 
+// STTAR's protocol (docs/simulator.md 10.1): every hold's markers within 350-700 mm of depth, the
+// second hold of a position the first moved 20 mm along the camera's z, the frame counts.
+TEST(MarkerNoiseScenario, HoldsTheToolAt350To700MillimetresAndMovesIt20AlongZ) {
+  constexpr double kSphereRadiusMm = 11.5 / 2.0;
+  constexpr double kMaxToolExtentMm = 80.0;  // spheres-four: markers within 80 mm of each other
+  MarkerNoiseProtocol protocol;
+  protocol.positions = 7;
+  protocol.frames_per_hold = 4;
+  const Scenario s = MarkerNoiseScenario(protocol);
+  ASSERT_NO_THROW(s.Check());
+  EXPECT_EQ(s.frames, 2 * 7 * 4);
+  EXPECT_EQ(s.timing.drop_probability, 0.0);
+  ASSERT_EQ(s.scene.tools.size(), 1u);
+  const Tool& tool = s.scene.tools[0];
+  EXPECT_EQ(tool.name, kMarkerNoiseToolName);
+  ASSERT_EQ(tool.markers.size(), 4u);
+  for (const Marker& m : tool.markers) {
+    EXPECT_EQ(m.shape, MarkerShape::kSphere);
+    EXPECT_EQ(m.diameter_mm, 11.5);
+    EXPECT_TRUE(s.scene.materials[static_cast<std::size_t>(m.material)].retro_reflective);
+  }
+  const std::vector<MarkerNoiseHold> holds = MarkerNoiseHolds(protocol);
+  ASSERT_EQ(holds.size(), 14u);
+  const Motion& mount = s.mounts[static_cast<std::size_t>(s.tool_mounts[0])].motion;
+  double nearest_mm = 1e9, farthest_mm = 0.0;
+  for (std::size_t h = 0; h < holds.size(); ++h) {
+    const MarkerNoiseHold& hold = holds[h];
+    EXPECT_EQ(hold.position, static_cast<int>(h / 2));
+    EXPECT_EQ(hold.moved, h % 2 == 1);
+    EXPECT_EQ(hold.first_slot, static_cast<std::int64_t>(h) * 4);
+    EXPECT_EQ(hold.frames, 4);
+    // Static over the hold, and where MarkerNoiseHolds says (the scene as rendered).
+    for (std::int64_t k = 0; k < hold.frames; ++k) {
+      const std::int64_t slot = hold.first_slot + k;
+      const Rigid3d world_from_ahat = MotionPose(s.camera.motion, slot, s.timing.rate_hz, s.seed);
+      const Rigid3d ahat_from_tool =
+          world_from_ahat.Inverse() * MotionPose(mount, slot, s.timing.rate_hz, s.seed);
+      EXPECT_LT(TranslationDistanceMm(ahat_from_tool, hold.ahat_from_tool), kExactMm);
+      EXPECT_LT(RotationDistanceRad(ahat_from_tool, hold.ahat_from_tool), kExactMm);
+    }
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const Marker& m : tool.markers) {
+      const Eigen::Vector3d c = hold.ahat_from_tool * m.centre_in_tool;
+      centroid += c / 4.0;
+      // Every sphere in front of the camera within its field (|x|, |y| < z) and near the range.
+      EXPECT_LT(std::abs(c.x()), c.z());
+      EXPECT_LT(std::abs(c.y()), c.z());
+      EXPECT_GT(c.z(), protocol.min_depth_mm - kMaxToolExtentMm - kSphereRadiusMm);
+      EXPECT_LT(c.z(), protocol.max_depth_mm + kMaxToolExtentMm + kSphereRadiusMm);
+    }
+    // The centroid's depth within 350-700 mm.
+    EXPECT_GE(centroid.z(), protocol.min_depth_mm - kExactMm);
+    EXPECT_LE(centroid.z(), protocol.max_depth_mm + kExactMm);
+    nearest_mm = std::min(nearest_mm, centroid.z());
+    farthest_mm = std::max(farthest_mm, centroid.z());
+    if (hold.moved) {  // the same pose, 20 mm farther along the camera's z
+      const Rigid3d& before = holds[h - 1].ahat_from_tool;
+      const Eigen::Vector3d move = hold.ahat_from_tool.translation - before.translation;
+      EXPECT_LT((move - Eigen::Vector3d(0.0, 0.0, 20.0)).norm(), kExactMm);
+      EXPECT_LT(RotationDistanceRad(before, hold.ahat_from_tool), kExactMm);
+    }
+  }
+  // Spread over the whole range: the nearest at 350 mm, the farthest at 700 mm.
+  EXPECT_NEAR(nearest_mm, protocol.min_depth_mm, kExactMm);
+  EXPECT_NEAR(farthest_mm, protocol.max_depth_mm, kExactMm);
+  // Seeded: the same seed the same poses, another seed others.
+  EXPECT_LT(
+      TranslationDistanceMm(MarkerNoiseHolds(protocol)[6].ahat_from_tool, holds[6].ahat_from_tool),
+      kExactMm);
+  protocol.seed = 2;
+  EXPECT_GT(
+      TranslationDistanceMm(MarkerNoiseHolds(protocol)[6].ahat_from_tool, holds[6].ahat_from_tool),
+      1.0);
+}
+
 }  // namespace
 }  // namespace tofnav::sim

@@ -11,6 +11,7 @@
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/core/rotation_vector.hpp"
+#include "tofnav/sim/material.hpp"
 #include "tofnav/sim/shapes.hpp"
 
 namespace tofnav::sim {
@@ -118,6 +119,10 @@ void ScenarioVariation::Check() const {
   Require(drop_probability < 1.0, "ScenarioVariation.drop_probability must be < 1");
   Require(mean_drop_slots < 0.0 || mean_drop_slots >= 1.0,
           "ScenarioVariation.mean_drop_slots must be >= 1");
+  Require(std::isfinite(skin_albedo) && skin_albedo <= 1.0,
+          "ScenarioVariation.skin_albedo must be <= 1 (< 0: the scenario's material)");
+  Require(std::isfinite(headset_min_range_mm) && std::isfinite(headset_max_range_mm),
+          "ScenarioVariation.headset_min_range_mm / headset_max_range_mm must be finite");
 }
 
 void ApplyVariation(const ScenarioVariation& v, Scenario& s) {
@@ -165,6 +170,22 @@ void ApplyVariation(const ScenarioVariation& v, Scenario& s) {
   }
   if (v.slam_rotation_sigma_rad >= 0.0)
     s.camera.slam.rotation_sigma_rad = v.slam_rotation_sigma_rad;
+  if (v.skin_albedo >= 0.0) {
+    // A material of its own: the head's print material may be shared with other objects, and
+    // the scene may have skin already (evd-usecase's hand).
+    Material skin = SkinMaterial();
+    skin.name = "patient_skin";
+    skin.albedo = v.skin_albedo;
+    s.scene.objects[static_cast<std::size_t>(s.patient->object)].material =
+        s.scene.AddMaterial(skin);
+  }
+  if (v.headset_min_range_mm >= 0.0 || v.headset_max_range_mm >= 0.0) {
+    Require(s.camera.motion.kind == MotionKind::kHeadWorn,
+            "ApplyVariation: the headset's range needs a head-worn camera motion");
+    HeadWornMotion& worn = s.camera.motion.head_worn;
+    if (v.headset_min_range_mm >= 0.0) worn.min_range_mm = v.headset_min_range_mm;
+    if (v.headset_max_range_mm >= 0.0) worn.max_range_mm = v.headset_max_range_mm;
+  }
   s.Check();
 }
 

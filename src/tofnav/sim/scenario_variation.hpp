@@ -40,7 +40,15 @@ struct ScenarioVariation {
   double no_hand_rate_hz = -1.0;            // >= 0 replaces the rate without a hand in view
   double slam_translation_sigma_mm = -1.0;  // >= 0 replaces the headset pose jitter
   double slam_rotation_sigma_rad = -1.0;    // >= 0 replaces it
-  void Check() const;                       // throws PreconditionError naming the bad field
+  /// The patients users have (issue 38 item 4): >= 0 makes the head skin (SkinMaterial, its
+  /// subsurface delay) of this surface albedo, from the darkest of the skin study's calibrated
+  /// spread (0.15) to the lightest (0.6, docs/simulator.md 10); < 0 keeps the scenario's
+  /// material (evd-usecase: a nylon print of the head).
+  double skin_albedo = -1.0;
+  /// >= 0 replaces the wearer's closest / farthest range to the head [mm] (evd-usecase: 300-700).
+  double headset_min_range_mm = -1.0;
+  double headset_max_range_mm = -1.0;
+  void Check() const;  // throws PreconditionError naming the bad field
 };
 
 /// Applies `variation` to a session with a patient on a mount (evd-usecase and the like).

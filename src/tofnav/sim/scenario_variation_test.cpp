@@ -89,6 +89,28 @@ TEST(ScenarioVariation, DriftMovesThePatientSlowlyAndTimingAndJitterAreReplaced)
   EXPECT_THROW(ApplyVariation({.head_drift_mm_per_s = -1.0}, s), PreconditionError);
 }
 
+TEST(ScenarioVariation, SkinAndTheHeadsetsRangeChangeOnlyThePatientAndTheWearer) {
+  const Scenario before = BuiltinScenario("evd-usecase");
+  Scenario after = before;
+  ApplyVariation(
+      {.skin_albedo = 0.15, .headset_min_range_mm = 500.0, .headset_max_range_mm = 700.0}, after);
+  const std::size_t head = static_cast<std::size_t>(after.patient->object);
+  const Material& skin =
+      after.scene.materials[static_cast<std::size_t>(after.scene.objects[head].material)];
+  EXPECT_EQ(skin.name, "patient_skin");
+  EXPECT_EQ(skin.albedo, 0.15);
+  EXPECT_EQ(skin.subsurface_delay_ps, SkinMaterial().subsurface_delay_ps);
+  for (std::size_t o = 0; o < after.scene.objects.size(); ++o) {
+    if (o == head) continue;  // every other object keeps its material
+    EXPECT_EQ(after.scene.objects[o].material, before.scene.objects[o].material) << o;
+  }
+  EXPECT_EQ(after.camera.motion.head_worn.min_range_mm, 500.0);
+  EXPECT_EQ(after.camera.motion.head_worn.max_range_mm, 700.0);
+  Scenario bad = before;
+  EXPECT_THROW(ApplyVariation({.skin_albedo = 1.5}, bad), PreconditionError);
+  EXPECT_THROW(ApplyVariation({.headset_min_range_mm = 800.0}, bad), PreconditionError);
+}
+
 TEST(ScenarioVariation, PerturbedDevicesStayWithinTheSpreadAndAreRepeatable) {
   const SyntheticAhatOptions base = CameraSetup().calibration;
   for (std::uint64_t seed = 1; seed <= 20; ++seed) {

@@ -49,6 +49,10 @@ void NoiseOptions::Check() const {
   Require(depth_sigma_ref_mm >= 0.0, "NoiseOptions.depth_sigma_ref_mm must be >= 0");
   Require(depth_sigma_ref_ab > 0.0, "NoiseOptions.depth_sigma_ref_ab must be > 0");
   Require(depth_sigma_floor_mm >= 0.0, "NoiseOptions.depth_sigma_floor_mm must be >= 0");
+  Require(depth_sigma_floor_range_mm > 0.0 && std::isfinite(depth_sigma_floor_range_mm),
+          "NoiseOptions.depth_sigma_floor_range_mm must be > 0");
+  Require(depth_sigma_floor_exponent >= 0.0 && depth_sigma_floor_exponent <= 4.0,
+          "NoiseOptions.depth_sigma_floor_exponent must be in [0, 4]");
   Require(depth_correlation_px >= 0.0 && depth_correlation_px <= 5.0,
           "NoiseOptions.depth_correlation_px must lie in [0, 5]");
 }
@@ -111,9 +115,15 @@ double AdditiveBiasMm(const Material& material, BiasMode mode, double range_mm,
   return bias_mm;
 }
 
-double DepthNoiseSigmaMm(const NoiseOptions& options, double ab) {
+double DepthNoiseSigmaMm(const NoiseOptions& options, double ab, double range_mm) {
   if (!(ab > 0.0)) return std::numeric_limits<double>::infinity();
-  return std::max(options.depth_sigma_floor_mm,
+  const double floor_mm =
+      options.depth_sigma_floor_exponent == 0.0
+          ? options.depth_sigma_floor_mm
+          : options.depth_sigma_floor_mm *
+                std::pow(std::max(range_mm, 1.0) / options.depth_sigma_floor_range_mm,
+                         options.depth_sigma_floor_exponent);
+  return std::max(floor_mm,
                   options.depth_sigma_ref_mm * std::sqrt(options.depth_sigma_ref_ab / ab));
 }
 

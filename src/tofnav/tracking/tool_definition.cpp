@@ -116,6 +116,8 @@ std::optional<FrameMatch> MatchFrame(const Points3d& centres, const ToolGeometry
 
 void ToolDefinitionOptions::Check() const {
   Require(marker_diameter_mm > 0.0, "ToolDefinitionOptions::marker_diameter_mm must be > 0");
+  Require(std::isfinite(marker_entrance_gain_mm_per_rad),
+          "ToolDefinitionOptions::marker_entrance_gain_mm_per_rad must be finite");
   Require(marker_count == 0 || marker_count >= 3,
           "ToolDefinitionOptions::marker_count must be 0 or >= 3");
   Require(match_tolerance_mm > 0.0 && max_fre_mm > 0.0,
@@ -131,7 +133,18 @@ ToolDefinitionResult DefineTool(std::span<const std::vector<DetectedMarker>> fra
   const double radius =
       options.marker_type == MarkerType::kSphere ? options.marker_diameter_mm / 2 : 0.0;
   std::vector<Points3d> centres;
-  for (const std::vector<DetectedMarker>& f : frames) centres.push_back(MarkerCentres(f, radius));
+  for (const std::vector<DetectedMarker>& f : frames) {
+    if (radius > 0.0 && options.marker_entrance_gain_mm_per_rad != 0.0) {
+      std::vector<DetectedMarker> corrected = f;
+      for (DetectedMarker& m : corrected) {
+        ShiftSphereEntranceAngles(m, m.ray_in_ahat * (m.surface_range_mm + radius), radius,
+                                  options.marker_entrance_gain_mm_per_rad);
+      }
+      centres.push_back(MarkerCentres(corrected, radius));
+    } else {
+      centres.push_back(MarkerCentres(f, radius));
+    }
+  }
   const int count = options.marker_count > 0 ? options.marker_count : ModalCount(centres);
   ToolGeometry model;
   model.name = options.name;

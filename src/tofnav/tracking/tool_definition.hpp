@@ -23,7 +23,11 @@ struct ToolDefinitionOptions {
   double outlier_factor = 3.0;      // dimensionless: marker observations beyond this x RMS drop
   int min_frames = 20;              // frames with a match needed
   int iterations = 4;               // generalised Procrustes rounds
-  void Check() const;               // throws std::invalid_argument naming the bad field
+  /// f_rf's entrance-angle term (MarkerRangeModel::entrance_gain_mm_per_rad, docs/tracking.md 4),
+  /// applied to sphere markers before their centres are taken; disc markers keep their ranges
+  /// (their entrance angle needs the tool's plane, which the definition is still looking for).
+  double marker_entrance_gain_mm_per_rad = 0.0;
+  void Check() const;  // throws std::invalid_argument naming the bad field
 };
 
 struct ToolDefinitionResult {

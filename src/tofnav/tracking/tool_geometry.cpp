@@ -118,6 +118,27 @@ Eigen::Vector3d MarkerPlaneNormal(const ToolGeometry& tool) {
   return ComputePrincipalAxes(tool.markers_in_tool).axes.col(2);  // the least spread
 }
 
+std::vector<Eigen::Vector3d> MarkerPlaneNormals(const ToolGeometry& tool) {
+  const Points3d& m = tool.markers_in_tool;
+  const Eigen::Vector3d whole = MarkerPlaneNormal(tool);
+  std::vector<Eigen::Vector3d> normals(m.size(), whole);
+  if (m.size() < 4) return normals;
+  for (std::size_t k = 0; k < m.size(); ++k) {
+    std::vector<std::size_t> order(m.size());
+    for (std::size_t i = 0; i < m.size(); ++i) order[i] = i;
+    std::partial_sort(order.begin(), order.begin() + 4, order.end(),
+                      [&](std::size_t a, std::size_t b) {
+                        return (m[a] - m[k]).squaredNorm() < (m[b] - m[k]).squaredNorm();
+                      });
+    const Points3d local = {m[order[0]], m[order[1]], m[order[2]], m[order[3]]};
+    const std::vector<double> s = SingularValues(local);
+    if (s.size() >= 2 && s[1] / 2.0 >= kCollinearMm) {
+      normals[k] = ComputePrincipalAxes(local).axes.col(2);
+    }
+  }
+  return normals;
+}
+
 ToolGeometryReport AnalyzeToolGeometry(const ToolGeometry& tool,
                                        std::span<const ToolGeometry> others) {
   tool.Check();

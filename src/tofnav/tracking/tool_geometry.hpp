@@ -39,6 +39,12 @@ struct ToolGeometry {
 /// disc tool; its sign is arbitrary). Needs >= 3 non-collinear markers (ToolGeometry::Check).
 Eigen::Vector3d MarkerPlaneNormal(const ToolGeometry& tool);
 
+/// Each marker's own plane normal in `tool`: the least-squares plane of the marker and its three
+/// nearest neighbours (a tool built from several flat plates, such as a headframe's two reference
+/// plates tracked as one, has one plane per plate); the whole tool's plane where those four are
+/// nearly collinear or the tool has fewer than four markers. Signs are arbitrary.
+std::vector<Eigen::Vector3d> MarkerPlaneNormals(const ToolGeometry& tool);
+
 /// How distinct a tool is from itself under relabelling and from others (docs/tracking.md 9.7).
 struct ToolGeometryReport {
   std::vector<double> distances_mm;  // |m_i - m_j| for i < j, in order (0,1), (0,2), ..

@@ -69,5 +69,35 @@ TEST(AnalyzeToolGeometry, FindsSymmetryAndTellsMirrorTwinsApart) {
   EXPECT_GT(r.confusion_fre_mm[0], 3.0);                    // ...but no proper rigid fit
 }
 
+// Two flat plates of four discs each, 200 mm apart and turned 40 deg against each other, tracked
+// as one tool (a headframe's two reference plates): each disc gets its own plate's normal, where
+// the whole tool's plane would be off by about 20 deg for both.
+TEST(MarkerPlaneNormals, EachDiscGetsItsOwnPlatesNormal) {
+  constexpr double kTolRad = 1e-9;  // exact geometry: only rounding
+  const Eigen::Vector3d layout[] = {{0, 0, 0}, {35, 0, 0}, {0, 28, 0}, {30, 40, 0}};
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(40.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  ToolGeometry tool;
+  tool.name = "two_plates";
+  tool.marker_type = MarkerType::kDisc;
+  tool.marker_diameter_mm = 10.0;
+  for (const Eigen::Vector3d& p : layout) tool.markers_in_tool.push_back(p);
+  for (const Eigen::Vector3d& p : layout) {
+    tool.markers_in_tool.push_back(Eigen::Vector3d(200, 0, 0) + turn * p);
+  }
+  const std::vector<Eigen::Vector3d> normals = MarkerPlaneNormals(tool);
+  ASSERT_EQ(normals.size(), 8u);
+  for (std::size_t k = 0; k < 8; ++k) {
+    const Eigen::Vector3d plate =
+        k < 4 ? Eigen::Vector3d(Eigen::Vector3d::UnitZ()) : Eigen::Vector3d(turn.col(2));
+    EXPECT_NEAR(std::abs(normals[k].dot(plate)), 1.0, kTolRad) << k;
+  }
+  // One flat plate: every marker's normal is the plate's.
+  tool.markers_in_tool.resize(4);
+  for (const Eigen::Vector3d& n : MarkerPlaneNormals(tool)) {
+    EXPECT_NEAR(std::abs(n.z()), 1.0, kTolRad);
+  }
+}
+
 }  // namespace
 }  // namespace tofnav

@@ -77,40 +77,25 @@ void FitUsed(std::span<const DetectedMarker> detections, const Points3d& centres
   r.outliers_checked = fit.outliers_checked;
 }
 
-// A sphere's core pixels see its sheeting at entrance angle beta, sin beta = D sin(alpha) / r
-// for a pixel alpha off the marker ray and the centre D away: each core range shortened by
-// gain x beta, the surface range by their mean.
-void ShiftSphereCore(DetectedMarker& m, double centre_range_mm, double radius_mm,
-                     double gain_mm_per_rad) {
-  if (m.core.empty()) return;  // hand-made detections: no pixels to say where they lie
-  double sum_mm = 0.0;
-  for (CoreSample& s : m.core) {
-    const double sin_beta = std::min(1.0, centre_range_mm * std::sin(s.angle_rad) / radius_mm);
-    const double shift_mm = -gain_mm_per_rad * std::asin(sin_beta);
-    s.range_mm += static_cast<float>(shift_mm);
-    sum_mm += shift_mm;
-  }
-  m.surface_range_mm += sum_mm / static_cast<double>(m.core.size());
-}
-
 // The matched markers' ranges shortened by gain x their entrance angle under the fitted pose
-// (a disc: the tool's plane against its ray; a sphere: per core pixel), and the pose fitted again
-// on them: one step suffices, a 1 deg pose error moves beta by 1 deg and the range by
-// gain x 0.017 mm.
+// (a disc: its own plate's plane against its ray, MarkerPlaneNormals; a sphere: per core pixel),
+// and the pose fitted again on them: one step suffices, a 1 deg pose error moves beta by 1 deg and
+// the range by gain x 0.017 mm.
 void RefitForEntranceAngles(std::span<const DetectedMarker> detections, const ToolGeometry& tool,
                             const ToolPoseOptions& options, std::span<const DroppedBlob> dropped,
                             ToolPoseResult& r) {
   const double gain = options.marker_entrance_gain_mm_per_rad;
-  const Eigen::Vector3d normal = r.ahat_from_tool->rotation * MarkerPlaneNormal(tool);
+  const std::vector<Eigen::Vector3d> normals_in_tool = MarkerPlaneNormals(tool);
   std::vector<DetectedMarker> corrected(detections.begin(), detections.end());
   for (std::size_t k = 0; k < r.marker_detection.size(); ++k) {
     const int d = r.marker_detection[k];
     if (d < 0) continue;
     DetectedMarker& m = corrected[static_cast<std::size_t>(d)];
     if (tool.marker_type == MarkerType::kSphere) {
-      ShiftSphereCore(m, (*r.ahat_from_tool * tool.markers_in_tool[k]).norm(),
-                      tool.SurfaceToCentreMm(), gain);
+      ShiftSphereEntranceAngles(m, *r.ahat_from_tool * tool.markers_in_tool[k],
+                                tool.SurfaceToCentreMm(), gain);
     } else {
+      const Eigen::Vector3d normal = r.ahat_from_tool->rotation * normals_in_tool[k];
       ShiftMarkerRange(m, -gain * std::acos(std::min(1.0, std::abs(normal.dot(m.ray_in_ahat)))));
     }
   }

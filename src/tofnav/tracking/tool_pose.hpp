@@ -38,8 +38,8 @@ struct ToolPoseOptions {
   double max_fre_mm = 1.0;  // default FRE acceptance (ToolGeometry::max_fre_mm overrides)
   /// f_rf's entrance-angle term (MarkerRangeModel::entrance_gain_mm_per_rad): retro sheeting at
   /// entrance angle beta reads farther by gain x beta. The pose gives each matched marker's beta
-  /// (a disc: the markers' plane normal against its ray; a sphere: each core pixel's incidence on
-  /// it); its ranges are shortened by gain x beta and the pose fitted again
+  /// (a disc: its plate's normal, MarkerPlaneNormals, against its ray; a sphere: each core pixel's
+  /// incidence on it); its ranges are shortened by gain x beta and the pose fitted again
   /// (EstimateToolPoses; docs/tracking.md 4). 0: none (Eq. 2 alone).
   double marker_entrance_gain_mm_per_rad = 0.0;
   double occlusion_penalty_mm = 0.5;  // score per unseen marker
