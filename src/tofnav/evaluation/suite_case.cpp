@@ -140,6 +140,9 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
       s.camera.device = device;
       s.camera.device_folder = folder;
       s.render.multipath.gain = c.multipath_gain;
+      if (c.noise_floor_exponent >= 0.0) {
+        s.render.noise.depth_sigma_floor_exponent = c.noise_floor_exponent;
+      }
     };
     ctx.vary_stage = camera;
     ctx.vary_session = [&](sim::Scenario& s) {

@@ -27,6 +27,9 @@ struct SuiteCase {
   std::uint64_t seed = 1;
   std::string device = "synthetic";  // synthetic | perturbed:<n> | folder:<hl2ss calibration>
   double multipath_gain = 1.0;
+  /// >= 0 replaces the simulator's range noise floor exponent (NoiseOptions::
+  /// depth_sigma_floor_exponent; 1.5 meets STTAR's marker rows, docs/simulator.md 10.1).
+  double noise_floor_exponent = -1.0;
   sim::ScenarioVariation variation;
 };
 

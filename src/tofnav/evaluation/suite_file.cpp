@@ -35,6 +35,7 @@ void ReadCase(JsonFields& in, SuiteCase& c) {
   in.Read("seed", c.seed);
   in.Read("device", c.device);
   in.Read("multipath_gain", c.multipath_gain);
+  in.Read("noise_floor_exponent", c.noise_floor_exponent);
   sim::ScenarioVariation& v = c.variation;
   v.tools = ReadEnum(in, "tools", v.tools, kTools);
   v.surroundings = ReadEnum(in, "surroundings", v.surroundings, kSurroundings);
@@ -61,6 +62,9 @@ void CheckCase(const SuiteCase& c, const std::string& at, std::set<std::string>&
     Fail(at + ".head", "head_mirror and head_scale derive a head from a volume (ct:<path>)");
   }
   if (!(c.head_scale > 0.5 && c.head_scale < 2.0)) Fail(at + ".head_scale", "must lie in (0.5, 2)");
+  if (!(c.noise_floor_exponent <= 4.0)) {
+    Fail(at + ".noise_floor_exponent", "must be <= 4 (< 0: the simulator's default)");
+  }
   if (c.device != "synthetic" && !c.device.starts_with("perturbed:") &&
       !c.device.starts_with("folder:")) {
     Fail(at + ".device", "expected synthetic, perturbed:<n> or folder:<path>");
