@@ -148,6 +148,19 @@ void BM_DetectMatchPoseTwoDiscTools(benchmark::State& state) {
 }
 BENCHMARK(BM_DetectMatchPoseTwoDiscTools)->Unit(benchmark::kMicrosecond);
 
+// Pose estimation alone on the disc tools, without (0) and with (1) f_rf's entrance-angle refit
+// (the tape's gain of the simulator's preset, docs/tracking.md 4): what the refit costs.
+void BM_EstimateDiscToolPosesEntranceGain(benchmark::State& state) {
+  const DiscFixture& f = DiscFrame();
+  const std::vector<DetectedMarker> markers = LocateMarkers(f.frame, f.camera).markers;
+  ToolPoseOptions options;
+  if (state.range(0) != 0)
+    options.marker_entrance_gain_mm_per_rad =
+        sim::RetroReflectiveMaterial().retro_angle_gain_mm_per_rad;
+  for (auto _ : state) benchmark::DoNotOptimize(EstimateToolPoses(markers, f.tools, {}, options));
+}
+BENCHMARK(BM_EstimateDiscToolPosesEntranceGain)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+
 // The same through ToolTracker (temporal prior and pose filters included).
 void BM_TrackTwoTools(benchmark::State& state) {
   const Fixture& f = Frame();

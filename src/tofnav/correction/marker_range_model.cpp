@@ -112,8 +112,7 @@ void ShortenTapePoints(std::span<Eigen::Vector3d> points_in_ahat, const Eigen::V
   for (Eigen::Vector3d& p : points_in_ahat) {
     const double range = p.norm();
     if (!(range > 0.0)) continue;
-    const double entrance_rad = std::acos(std::min(1.0, std::abs(n.dot(p)) / range));
-    p *= (range - gain_mm_per_rad * entrance_rad) / range;
+    p *= (range - gain_mm_per_rad * TapeEntranceAngleRad(n, p)) / range;
   }
 }
 

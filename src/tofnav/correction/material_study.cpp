@@ -11,6 +11,7 @@
 
 #include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
+#include "tofnav/markers/marker_centre.hpp"
 
 namespace tofnav {
 namespace {
@@ -116,9 +117,7 @@ std::optional<double> ReferenceDepthErrorMm(const ReferencePlane& plane,
 }
 
 double PlaneIncidenceRad(const ReferencePlane& plane, const Eigen::Vector3d& point_in_ahat) {
-  const double norm = point_in_ahat.norm();
-  if (!(norm > 0.0)) return 0.0;
-  return std::acos(std::min(1.0, std::abs(plane.normal.dot(point_in_ahat)) / norm));
+  return TapeEntranceAngleRad(plane.normal, point_in_ahat);
 }
 
 void MaterialStudyOptions::Check() const {

@@ -90,6 +90,12 @@ void ShiftMarkerRange(DetectedMarker& marker, double shift_mm) {
   for (CoreSample& s : marker.core) s.range_mm += static_cast<float>(shift_mm);
 }
 
+double TapeEntranceAngleRad(const Eigen::Vector3d& normal, const Eigen::Vector3d& ray) {
+  const double length = ray.norm();
+  if (!(length > 0.0)) return 0.0;
+  return std::acos(std::min(1.0, std::abs(normal.dot(ray)) / length));
+}
+
 void ShiftSphereEntranceAngles(DetectedMarker& marker, const Eigen::Vector3d& centre_in_ahat,
                                double radius_mm, double gain_mm_per_rad) {
   if (marker.core.empty()) return;  // hand-made detections: no pixels to say where they lie

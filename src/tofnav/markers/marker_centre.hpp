@@ -48,6 +48,10 @@ Points3d MarkerCentres(std::span<const DetectedMarker> markers, double radius_mm
 /// by `shift_mm` (a range correction such as Eq. 2's -f_rf).
 void ShiftMarkerRange(DetectedMarker& marker, double shift_mm);
 
+/// The entrance angle of flat tape with unit `normal` (either side up) along `ray` from the camera
+/// (any length): arccos(|n . ray| / |ray|) [rad], 0 for a zero ray (docs/tracking.md 4).
+double TapeEntranceAngleRad(const Eigen::Vector3d& normal, const Eigen::Vector3d& ray);
+
 /// The tape's entrance-angle term on a sphere (docs/tracking.md 4): each core pixel's range
 /// shortened by gain x its entrance angle, asin(D sin(alpha) / r) for a sphere of radius r whose
 /// centre lies at `centre_in_ahat` (D from the camera) and a pixel whose ray is alpha off the

@@ -161,9 +161,7 @@ StageRangeErrorResult MeasureMarkerRangeErrors(std::span<const StageFrame> frame
       const double true_centre_mm = (reference * structure.markers_in_tool[k]).norm();
       const double true_surface_mm = SurfaceRangeForCentreMm(marker, radius, true_centre_mm);
       const double entrance_rad =
-          normal_in_ahat
-              ? std::acos(std::min(1.0, std::abs(normal_in_ahat->dot(marker.ray_in_ahat))))
-              : 0.0;
+          normal_in_ahat ? TapeEntranceAngleRad(*normal_in_ahat, marker.ray_in_ahat) : 0.0;
       result.samples.push_back(
           {marker.surface_range_mm, marker.surface_range_mm - true_surface_mm, 1.0, entrance_rad});
       result.sample_frame.push_back(static_cast<int>(posed[i].frame));

@@ -122,7 +122,7 @@ std::vector<Eigen::Vector3d> MarkerPlaneNormals(const ToolGeometry& tool) {
   const Points3d& m = tool.markers_in_tool;
   const Eigen::Vector3d whole = MarkerPlaneNormal(tool);
   std::vector<Eigen::Vector3d> normals(m.size(), whole);
-  if (m.size() < 4) return normals;
+  if (m.size() <= 4) return normals;  // a marker and its three nearest: the whole tool
   for (std::size_t k = 0; k < m.size(); ++k) {
     std::vector<std::size_t> order(m.size());
     for (std::size_t i = 0; i < m.size(); ++i) order[i] = i;

@@ -42,7 +42,8 @@ Eigen::Vector3d MarkerPlaneNormal(const ToolGeometry& tool);
 /// Each marker's own plane normal in `tool`: the least-squares plane of the marker and its three
 /// nearest neighbours (a tool built from several flat plates, such as a headframe's two reference
 /// plates tracked as one, has one plane per plate); the whole tool's plane where those four are
-/// nearly collinear or the tool has fewer than four markers. Signs are arbitrary.
+/// nearly collinear or the tool has at most four markers (then they are the whole tool). Signs are
+/// arbitrary.
 std::vector<Eigen::Vector3d> MarkerPlaneNormals(const ToolGeometry& tool);
 
 /// How distinct a tool is from itself under relabelling and from others (docs/tracking.md 9.7).

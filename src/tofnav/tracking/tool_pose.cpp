@@ -96,7 +96,7 @@ void RefitForEntranceAngles(std::span<const DetectedMarker> detections, const To
                                 tool.SurfaceToCentreMm(), gain);
     } else {
       const Eigen::Vector3d normal = r.ahat_from_tool->rotation * normals_in_tool[k];
-      ShiftMarkerRange(m, -gain * std::acos(std::min(1.0, std::abs(normal.dot(m.ray_in_ahat)))));
+      ShiftMarkerRange(m, -gain * TapeEntranceAngleRad(normal, m.ray_in_ahat));
     }
   }
   FitUsed(corrected, MarkerCentres(corrected, tool.SurfaceToCentreMm()), tool, options, dropped, r);
