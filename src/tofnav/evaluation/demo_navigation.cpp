@@ -137,7 +137,8 @@ void RunDemoTracking(DemoContext& ctx, DemoJson& stage) {
   const std::vector<ToolTruthEvaluation> evaluations =
       EvaluateTrackingAgainstTruth(records, ctx.session_dir / "truth.json");
   std::ostringstream csv;
-  csv << "t_s,tool,position_error_mm,rotation_error_deg\n";
+  csv << "t_s,tool,position_error_mm,rotation_error_deg,filtered_position_error_mm,"
+         "filtered_rotation_error_deg\n";
   stage["tools"] = DemoJson::array();
   stage["acceptance"] = DemoJson::array();
   for (const ToolTruthEvaluation& t : evaluations) {
@@ -150,7 +151,14 @@ void RunDemoTracking(DemoContext& ctx, DemoJson& stage) {
       if (!f.raw) continue;
       csv << t.times_s[i] << ',' << t.name << ','
           << (f.raw->translation - f.true_ahat_from_tool.translation).norm() << ','
-          << AngleDeg(*f.raw, f.true_ahat_from_tool) << '\n';
+          << AngleDeg(*f.raw, f.true_ahat_from_tool) << ',';
+      if (f.filtered) {  // empty where the filter gated the frame (or there is no filter)
+        csv << (f.filtered->translation - f.true_ahat_from_tool.translation).norm() << ','
+            << AngleDeg(*f.filtered, f.true_ahat_from_tool);
+      } else {
+        csv << ',';
+      }
+      csv << '\n';
     }
     stage["tools"].push_back({{"name", t.name},
                               {"frames", e.frames},

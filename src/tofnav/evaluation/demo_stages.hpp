@@ -32,7 +32,7 @@ struct DemoContext {
   std::string head;  // "phantom" or "ct:<volume>"
   std::uint64_t seed = 1;
   bool quiet = false;
-  std::int64_t stage_frames = 160;       // marker-stage recording (four runs)
+  std::int64_t stage_frames = 400;       // marker-stage recording (four runs)
   std::int64_t session_frames = 300;     // patient session (identification, reconstruction, nav)
   std::int64_t session_slot_stride = 1;  // every n-th slot of the session's motion is rendered
   int depth_eval_frames = 24;            // frames of the depth evaluation (ray cast truth labels)
