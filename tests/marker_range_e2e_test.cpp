@@ -110,7 +110,10 @@ double SphereToolPositionRms(sim::RetroCurve curve, const MarkerRangeModel& mode
 }
 
 TEST(MarkerRangeAcceptance, FrfFittedFromAStageRecordingRemovesTheRangeBias) {
-  constexpr double kMaxSpherePositionRmsMm = 0.25;
+  // Single frames over 300-700 mm: the calibrated simulator's range noise (range^1.5 per pixel,
+  // docs/simulator.md 10.1) gives the tool 0.21 mm RMS with the true f_rf (TrackingAcceptance);
+  // 60 frames with the fitted one: 0.22-0.25 mm (0.25 was the line on the flat-floor simulator).
+  constexpr double kMaxSpherePositionRmsMm = 0.30;
   constexpr double kMaxBiasMm = 0.2;  // the target, with a 4 mm f_rf span
   // The stage reference's own depth bias: +0.02 mm with the reference centroid's rays on a
   // face-on structure, +0.09 mm with the AB-weighted centroid's (pulled towards the image

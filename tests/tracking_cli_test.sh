@@ -55,6 +55,11 @@ MAX_ROTATION_RMS_DEG = 0.32
 # The filtered orientation (filtered in the world frame with the rig pose, docs/tracking.md 5)
 # meets the issue's 0.25 deg on evd-usecase's moving camera, and the filtered position 0.25 mm.
 MAX_FILTERED_ROTATION_RMS_DEG = 0.25
+# The static tools' single frames at 420-480 mm on the calibrated simulator (session 29: one
+# marker pixel's range sd grows as range^1.5, docs/simulator.md 10.1): 0.27 / 0.42 deg (0.23-0.29
+# on the flat floor; a real HoloLens 2, STTAR: 0.80 deg). The filtered pose is held to the issue's
+# 0.25 deg below.
+MAX_STATIC_ROTATION_RMS_DEG = 0.48
 MIN_FULLY_VISIBLE_FRAMES = 20
 MIN_TRACKED_FRACTION = 0.99
 MAX_JITTER_MM = 0.05
@@ -87,7 +92,10 @@ for t in static["tools"]:
     check(j is not None and j <= MAX_JITTER_MM, f"static {t['tool']}: filtered jitter {j} mm (raw {t['jitter_raw_mm']})")
     raw = t["raw_fully_visible"]
     check(raw["rms_mm"] <= MAX_POSITION_RMS_MM, f"static {t['tool']}: position RMS {raw['rms_mm']:.3f} mm")
-    check(raw["rms_deg"] <= MAX_ROTATION_RMS_DEG, f"static {t['tool']}: rotation RMS {raw['rms_deg']:.3f} deg")
+    check(raw["rms_deg"] <= MAX_STATIC_ROTATION_RMS_DEG, f"static {t['tool']}: rotation RMS {raw['rms_deg']:.3f} deg")
+    filtered = t["filtered_fully_visible"]
+    check(filtered["rms_deg"] <= MAX_FILTERED_ROTATION_RMS_DEG,
+          f"static {t['tool']}: filtered rotation RMS {filtered['rms_deg']:.3f} deg")
 check(static["wrong_identities"] == 0, f"static: {static['wrong_identities']} wrong identities")
 check_run = json.load(open(sys.argv[3]))
 bins = [b for b in check_run["tools"][0]["range_bias"] if 300 <= b["from_mm"] < 700 and b["count"] >= 50]

@@ -61,9 +61,10 @@ int RunEvaluateFidelity(int argc, char** argv) {
                  "(to see what the indirect light does to each row)")
       ->check(CLI::Range(0.0, 1.0));
   std::optional<double> floor_exponent;
-  app.add_option("--noise-floor-exponent", floor_exponent,
-                 "the range noise floor grows as (range / 350 mm)^E in every simulation (unset: "
-                 "the simulator's default, 0: flat; docs/simulator.md 10.1)")
+  app.add_option(
+         "--noise-floor-exponent", floor_exponent,
+         "the range noise floor grows as (range / 350 mm)^E in every simulation (unset: "
+         "the simulator's default, 1.5; 0: flat as before session 29; docs/simulator.md 10.1)")
       ->check(CLI::Range(0.0, 4.0));
   app.add_flag("--json", json, "print fidelity.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");

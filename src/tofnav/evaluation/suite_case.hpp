@@ -28,7 +28,8 @@ struct SuiteCase {
   std::string device = "synthetic";  // synthetic | perturbed:<n> | folder:<hl2ss calibration>
   double multipath_gain = 1.0;
   /// >= 0 replaces the simulator's range noise floor exponent (NoiseOptions::
-  /// depth_sigma_floor_exponent; 1.5 meets STTAR's marker rows, docs/simulator.md 10.1).
+  /// depth_sigma_floor_exponent; its default 1.5 meets STTAR's marker rows, docs/simulator.md 10.1;
+  /// 0 is the flat floor of the suites before session 29).
   double noise_floor_exponent = -1.0;
   sim::ScenarioVariation variation;
 };

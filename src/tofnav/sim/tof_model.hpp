@@ -47,10 +47,10 @@ struct NoiseOptions {
   /// The floor grows with range as (range / depth_sigma_floor_range_mm)^depth_sigma_floor_exponent:
   /// a retro-reflector's pixels are so bright that the shot term gives them almost nothing, yet
   /// STTAR measured one marker pixel's depth sd rising from 0.49 mm at 350 mm to 1.08 mm at 700 mm
-  /// (docs/simulator.md 10.1). 1.5 meets that row; the default stays 0 (a constant floor) until
-  /// tofnav's tracking filter holds under it (session 28: the smoke suite's tracking 1.03 mm).
+  /// (docs/simulator.md 10.1). 1.5 meets that row and STTAR's six tracking rows; 0 is the
+  /// constant floor of sessions before 29.
   double depth_sigma_floor_range_mm = 350.0;
-  double depth_sigma_floor_exponent = 0.0;
+  double depth_sigma_floor_exponent = 1.5;
   double depth_correlation_px = 0.7;  // Gaussian blur of the white noise, renormalised; 0 = white
   void Check() const;
 };

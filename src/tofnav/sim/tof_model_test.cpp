@@ -113,12 +113,11 @@ TEST(DepthNoise, FollowsTheShotNoiseLawAboveTheFloor) {
 // With exponent 1.5 a bright pixel's floor grows as range^1.5: 0.3 mm at 350 mm, 0.85 mm at
 // 700 mm, the rise STTAR measured on one marker pixel (docs/simulator.md 10.1).
 TEST(DepthNoise, TheFloorGrowsWithRange) {
-  NoiseOptions noise;
-  EXPECT_DOUBLE_EQ(DepthNoiseSigmaMm(noise, 40000.0, 700.0), 0.3);  // the default: flat
-  noise.depth_sigma_floor_exponent = 1.5;
+  NoiseOptions noise;  // the default since session 29: 1.5
   EXPECT_DOUBLE_EQ(DepthNoiseSigmaMm(noise, 40000.0, 700.0), 0.3 * std::pow(2.0, 1.5));
-  EXPECT_DOUBLE_EQ(DepthNoiseSigmaMm(noise, 130.0, 700.0), 1.0);  // shot noise above it
-  noise.depth_sigma_floor_exponent = 0.0;
+  EXPECT_DOUBLE_EQ(DepthNoiseSigmaMm(noise, 130.0, 700.0), 1.0);    // shot noise above it
+  EXPECT_DOUBLE_EQ(DepthNoiseSigmaMm(noise, 40000.0, 350.0), 0.3);  // the reference range
+  noise.depth_sigma_floor_exponent = 0.0;                           // flat, as before
   EXPECT_DOUBLE_EQ(DepthNoiseSigmaMm(noise, 40000.0, 700.0), 0.3);
 }
 

@@ -34,7 +34,8 @@ PoseFilter::PoseFilter(const PoseFilterOptions& options) : options_(options) { o
 
 void PoseFilter::Reset() { initialised_ = false; }
 
-void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s, double variance_scale) {
+void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s, double variance_scale,
+                            double position_variance_scale) {
   initialised_ = true;
   last_s_ = timestamp_s;
   position_mm_ = measured.translation;
@@ -43,7 +44,7 @@ void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s, double 
   angular_velocity_rad_per_s_.setZero();
   const double sp = options_.position_sigma_mm, sr = options_.rotation_sigma_rad;
   const double rate = options_.initial_rate_sigma_rad_per_s;
-  position_cov_ = {variance_scale * sp * sp, 0.0, kInitialRateVariance};
+  position_cov_ = {variance_scale * position_variance_scale * sp * sp, 0.0, kInitialRateVariance};
   rotation_cov_ = {variance_scale * sr * sr, 0.0, rate * rate};
   gated_in_a_row_ = 0;
   init_variance_scale_ = variance_scale;
@@ -69,36 +70,41 @@ std::optional<Rigid3d> PoseFilter::Predict(double timestamp_s) const {
 }
 
 PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
-                                    double position_accel_sigma_mm_per_s2,
-                                    double measurement_variance_scale) {
-  Require(std::isfinite(measurement_variance_scale) && measurement_variance_scale >= 1.0,
-          "PoseFilter::Update: measurement_variance_scale must be >= 1");
+                                    const PoseFilterStep& step) {
+  const double measurement_variance_scale = step.measurement_variance_scale;
+  Require(
+      std::isfinite(measurement_variance_scale) && measurement_variance_scale >= 1.0 &&
+          std::isfinite(step.position_variance_scale) && step.position_variance_scale >= 1.0,
+      "PoseFilter::Update: measurement_variance_scale and position_variance_scale must be >= 1");
   const std::optional<Rigid3d> predicted = Predict(timestamp_s);
   if (!predicted) {  // first measurement, a gap, or time going backwards
-    Initialise(measured, timestamp_s, measurement_variance_scale);
+    Initialise(measured, timestamp_s, measurement_variance_scale, step.position_variance_scale);
     return {measured, false, true};
   }
   const double dt = timestamp_s - last_s_;
-  const double accel_sigma = position_accel_sigma_mm_per_s2 > 0.0
-                                 ? position_accel_sigma_mm_per_s2
+  const double accel_sigma = step.position_accel_sigma_mm_per_s2 > 0.0
+                                 ? step.position_accel_sigma_mm_per_s2
                                  : options_.position_accel_sigma_mm_per_s2;
   const Axis2 pos = Propagate(position_cov_, dt, accel_sigma);
   const Axis2 rot = Propagate(rotation_cov_, dt, options_.rotation_accel_sigma_rad_per_s2);
   const double sp = options_.position_sigma_mm, sr = options_.rotation_sigma_rad;
-  const double s_pos = pos.pp + measurement_variance_scale * sp * sp;
+  const double s_pos = pos.pp + measurement_variance_scale * step.position_variance_scale * sp * sp;
   const double s_rot = rot.pp + measurement_variance_scale * sr * sr;
   const Eigen::Vector3d innovation_pos = measured.translation - predicted->translation;
   const Eigen::Vector3d innovation_rot =
       RotationVector(measured.rotation * predicted->rotation.inverse());
-  const double chi2 = innovation_pos.squaredNorm() / s_pos + innovation_rot.squaredNorm() / s_rot;
-  const bool beyond_floor = innovation_pos.norm() > options_.gate_floor_mm ||
-                            innovation_rot.norm() > options_.gate_floor_rad;
+  const double chi2_rot = step.gate_on_rotation ? innovation_rot.squaredNorm() / s_rot : 0.0;
+  const double chi2 = innovation_pos.squaredNorm() / s_pos + chi2_rot;
+  const bool beyond_floor =
+      innovation_pos.norm() > options_.gate_floor_mm ||
+      (step.gate_on_rotation && innovation_rot.norm() > options_.gate_floor_rad);
   if (chi2 > options_.gate_chi2 && beyond_floor) {
     // A state started from one measurement that fitted worse than this one does not lock the
     // better one out: start again from it.
     const bool poor_start = only_initialised_ && measurement_variance_scale < init_variance_scale_;
     if (!poor_start && ++gated_in_a_row_ < options_.max_gated) return {*predicted, true, false};
-    Initialise(measured, timestamp_s, measurement_variance_scale);  // a real jump
+    Initialise(measured, timestamp_s, measurement_variance_scale,
+               step.position_variance_scale);  // a real jump
     return {measured, false, true};
   }
   gated_in_a_row_ = 0;

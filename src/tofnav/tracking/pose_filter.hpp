@@ -14,7 +14,7 @@ struct PoseFilterOptions {
   double rotation_accel_sigma_rad_per_s2 = 0.05;
   /// Measurement noise of a raw pose, per axis.
   double position_sigma_mm = 0.15;
-  double rotation_sigma_rad = 0.003;
+  double rotation_sigma_rad = 0.006;
   /// Innovation gate: chi-square with 6 degrees of freedom (22.46: p = 0.999). Innovations below
   /// both floors are never gated, so slow manoeuvres are followed, not rejected.
   double gate_chi2 = 22.46;
@@ -42,6 +42,22 @@ struct PoseFilterUpdate {
   bool reset = false;  // (re-)initialised from this measurement
 };
 
+/// What the caller knows about one measurement beyond the options.
+struct PoseFilterStep {
+  /// > 0 replaces the option's white acceleration for this step (the caller knows the tool moves
+  /// in the measurement frame, e.g. a world-fixed tool seen by a moving camera).
+  double position_accel_sigma_mm_per_s2 = 0.0;
+  /// >= 1 multiplies this measurement's noise variances: a pose whose marker fit left residuals
+  /// larger than the noise model predicts counts for less.
+  double measurement_variance_scale = 1.0;
+  /// >= 1 multiplies the position's noise variance alone (on top of the above): a marker's range
+  /// noise, along the view ray, grows faster with range than the orientation's.
+  double position_variance_scale = 1.0;
+  /// false: the gate judges the position alone (another filter judges the orientation, e.g. one
+  /// in the world frame, where a patient-fixed tool stands still while the head-worn camera turns).
+  bool gate_on_rotation = true;
+};
+
 /// Constant-velocity Kalman filter on position (3 decoupled axes) and orientation (error state:
 /// rotation vector about the estimate, and angular velocity), with the real time step between
 /// measurements (AHAT rates drop from 45 to 5 Hz). Starts from the first measurement (no
@@ -50,13 +66,9 @@ class PoseFilter {
  public:
   explicit PoseFilter(const PoseFilterOptions& options = {});
 
-  /// `position_accel_sigma_mm_per_s2` > 0 replaces the option's for this step (the caller knows
-  /// the tool moves in the measurement frame, e.g. a world-fixed tool seen by a moving camera).
-  /// `measurement_variance_scale` (>= 1) multiplies this measurement's noise variances: a pose
-  /// whose marker fit left residuals larger than the noise model predicts counts for less.
+  /// One measurement with this step's `PoseFilterStep`.
   PoseFilterUpdate Update(const Rigid3d& measured_ahat_from_tool, double timestamp_s,
-                          double position_accel_sigma_mm_per_s2 = 0.0,
-                          double measurement_variance_scale = 1.0);
+                          const PoseFilterStep& step = {});
   /// The state extrapolated to `timestamp_s`; nullopt before the first measurement or when the
   /// gap exceeds max_gap_s (the filter would re-initialise).
   std::optional<Rigid3d> Predict(double timestamp_s) const;
@@ -67,7 +79,8 @@ class PoseFilter {
   struct Axis2 {  // shared 2 x 2 covariance of (value, rate) of three isotropic axes
     double pp = 0.0, pv = 0.0, vv = 0.0;
   };
-  void Initialise(const Rigid3d& measured, double timestamp_s, double variance_scale);
+  void Initialise(const Rigid3d& measured, double timestamp_s, double variance_scale,
+                  double position_variance_scale);
   static Axis2 Propagate(const Axis2& p, double dt_s, double accel_sigma);
 
   PoseFilterOptions options_;

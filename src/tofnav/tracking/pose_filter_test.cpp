@@ -4,7 +4,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <random>
 
 #include "matchers.hpp"
@@ -138,26 +140,27 @@ TEST(PoseFilter, AMeasurementThatFitPoorlyPullsLess) {
   for (int k = 0; k < 2; ++k) {
     PoseFilter filter;
     for (int i = 0; i < 30; ++i) filter.Update(still, i / 45.0);
-    const PoseFilterUpdate u = filter.Update(tilted, 30 / 45.0, 0.0, k == 0 ? 1.0 : 25.0);
+    const PoseFilterUpdate u =
+        filter.Update(tilted, 30 / 45.0, {.measurement_variance_scale = k == 0 ? 1.0 : 25.0});
     ASSERT_FALSE(u.gated);
     pull[k] = RotationDistanceRad(u.filtered, still);
   }
   EXPECT_GT(pull[0], 0.0);
   EXPECT_LT(pull[1], kPullRatio * pull[0]);
   PoseFilter filter;
-  EXPECT_THROW(filter.Update(still, 0.0, 0.0, 0.5), PreconditionError);
+  EXPECT_THROW(filter.Update(still, 0.0, {.measurement_variance_scale = 0.5}), PreconditionError);
 }
 
-// A state started from one poorly fitted pose (4 deg off, variance x 20) does not gate the next,
+// A state started from one poorly fitted pose (8 deg off, variance x 20) does not gate the next,
 // well fitted one as an outlier: the filter starts again from it.
 TEST(PoseFilter, APoorStartDoesNotLockOutBetterMeasurements) {
   const Rigid3d truth(Eigen::Quaterniond::Identity(), {0, 0, 500});
-  const Rigid3d off(Eigen::Quaterniond(Eigen::AngleAxisd(4.0 * kDeg, Eigen::Vector3d::UnitY())),
+  const Rigid3d off(Eigen::Quaterniond(Eigen::AngleAxisd(8.0 * kDeg, Eigen::Vector3d::UnitY())),
                     truth.translation);
   PoseFilterOptions options;
   options.initial_rate_sigma_rad_per_s = 0.01;  // a still tool: the state is confident at once
   PoseFilter filter(options);
-  EXPECT_TRUE(filter.Update(off, 0.0, 0.0, 20.0).reset);
+  EXPECT_TRUE(filter.Update(off, 0.0, {.measurement_variance_scale = 20.0}).reset);
   const PoseFilterUpdate u = filter.Update(truth, 1.0 / 45.0);
   EXPECT_FALSE(u.gated);
   EXPECT_TRUE(u.reset);
@@ -166,6 +169,41 @@ TEST(PoseFilter, APoorStartDoesNotLockOutBetterMeasurements) {
   PoseFilter clean(options);
   clean.Update(truth, 0.0);
   EXPECT_TRUE(clean.Update(off, 1.0 / 45.0).gated);
+}
+
+// A world-fixed tool seen at the suite's 6.45 Hz by a head that wanders (10 deg at 0.3 Hz: up to
+// 19 deg/s and 0.6 rad/s^2): in `ahat` the tool turns by up to 2.9 deg per frame, its rate
+// changing all the time. The filter's 0.05 rad/s^2 lets the orientation's prediction fall behind
+// by more than the 2 deg gate floor, so frames are gated, position and all (and each gate opens a
+// 0.31 s gap, past max_gap_s: a restart). When another filter judges the orientation (ToolTracker's
+// world filter, where the tool stands still), the gate judges the position alone: no gate, and a
+// position outlier is still caught.
+TEST(PoseFilter, GatesOnThePositionAloneWhenTheOrientationIsJudgedElsewhere) {
+  constexpr double kDt = 1.0 / 6.45, kOutlierMm = 25.0;
+  const auto truth_at = [](double t) {
+    const double angle = 10.0 * kDeg * std::sin(2.0 * std::numbers::pi * 0.3 * t);
+    return Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY())),
+                   {30.0, 0.0, 500.0});
+  };
+  for (int seed = 1; seed <= 6; ++seed) {
+    int gated[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+      std::mt19937_64 rng(seed);
+      PoseFilter filter;
+      for (int i = 0; i < 60; ++i) {
+        const double t = i * kDt;
+        gated[k] +=
+            filter.Update(Noisy(truth_at(t), rng, 0.2, 0.3 * kDeg), t, {.gate_on_rotation = k == 0})
+                .gated;
+      }
+      if (k == 0) continue;
+      Rigid3d outlier = truth_at(60 * kDt);
+      outlier.translation.x() += kOutlierMm;
+      EXPECT_TRUE(filter.Update(outlier, 60 * kDt, {.gate_on_rotation = false}).gated) << seed;
+    }
+    EXPECT_GT(gated[0], 0) << "seed " << seed;  // the failure the switch exists for
+    EXPECT_EQ(gated[1], 0) << "seed " << seed;
+  }
 }
 
 TEST(PoseFilter, ResetsAfterAGapOrWhenTimeGoesBack) {

@@ -26,6 +26,9 @@ void ToolTrackerOptions::Check() const {
           "ToolTrackerOptions::world_rate_sigma_rad_per_s must be > 0");
   Require(std::isfinite(world_accel_sigma_rad_per_s2) && world_accel_sigma_rad_per_s2 > 0.0,
           "ToolTrackerOptions::world_accel_sigma_rad_per_s2 must be > 0");
+  Require(std::isfinite(noise_growth_range_mm) && noise_growth_range_mm > 0.0 &&
+              std::isfinite(noise_growth_exponent) && noise_growth_exponent >= 0.0,
+          "ToolTrackerOptions: noise_growth_range_mm must be > 0 and noise_growth_exponent >= 0");
   Require(camera_motion_bandwidth_per_s >= 0.0 && camera_motion_baseline_s > 0.0,
           "ToolTrackerOptions: camera_motion_bandwidth_per_s must be >= 0 and "
           "camera_motion_baseline_s > 0");
@@ -102,8 +105,9 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
     const std::optional<Rigid3d>& raw = tracked.measurement.ahat_from_tool;
     if (!raw) {
       if (++missed_[t] >= options_.max_missed_frames) {  // a loss: drop the prior and the state
+        // ... in `ahat`; the world filter keeps its orientation over a look-away up to
+        // world_max_gap_s: there the tool stands still, and its gate restarts it if it did not.
         filters_[t].Reset();
-        world_filters_[t].Reset();
         last_pose_[t].reset();
       }
       frame.tools.push_back(std::move(tracked));
@@ -125,15 +129,25 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       const double scale = options_.inflate_noise_by_fit && dof > 0
                                ? std::max(1.0, m.noise_chi2 / static_cast<double>(dof))
                                : 1.0;
-      const PoseFilterUpdate update = filters_[t].Update(*raw, timestamp_s, accel_sigma, scale);
+      const double range_ratio = raw->translation.norm() / options_.noise_growth_range_mm;
+      const double position_scale =
+          std::max(1.0, std::pow(range_ratio, 2.0 * options_.noise_growth_exponent));
+      // With a world filter the orientation is judged there, where the tool stands still; in
+      // `ahat` it turns with the head, faster than the filter's rotation noise follows at 6 Hz.
+      const PoseFilterUpdate update =
+          filters_[t].Update(*raw, timestamp_s,
+                             {.position_accel_sigma_mm_per_s2 = accel_sigma,
+                              .measurement_variance_scale = scale,
+                              .position_variance_scale = position_scale,
+                              .gate_on_rotation = !in_world});
       tracked.gated = update.gated;
       tracked.filter_reset = update.reset;
       if (!update.gated) tracked.filtered_ahat_from_tool = update.filtered;
       if (!in_world) {
         world_filters_[t].Reset();
       } else {
-        const PoseFilterUpdate world =
-            world_filters_[t].Update(*world_from_ahat * *raw, timestamp_s, 0.0, scale);
+        const PoseFilterUpdate world = world_filters_[t].Update(
+            *world_from_ahat * *raw, timestamp_s, {.measurement_variance_scale = scale});
         // Gated there, the world filter's output is its prediction: the held orientation of a
         // tool that stands still, better than the raw one the `ahat` filter may restart from.
         if (!update.gated) {

@@ -27,7 +27,7 @@ struct ToolTrackerOptions {
   /// The world-frame orientation filter bridges gaps up to this long (dropped frames, a hand
   /// over the tool): there the tool stands still, so the held orientation stays valid where the
   /// `ahat` filter (filter.max_gap_s) must restart from one raw pose.
-  double world_max_gap_s = 1.0;
+  double world_max_gap_s = 5.0;
   /// ... and starts with, and boosts a large innovation by, at most this rate uncertainty: a
   /// tool fixed to the patient turns in `world` only with the patient's slow motion, so a few
   /// bad measurements cannot set it turning (a real turn is gated, then restarts the filter).
@@ -52,6 +52,14 @@ struct ToolTrackerOptions {
   /// multipath range that survived the marker checks tilts the held pose less
   /// (docs/tracking.md 6).
   bool inflate_noise_by_fit = true;
+  /// Beyond noise_growth_range_mm the `ahat` filter's position sigma (filter.position_sigma_mm:
+  /// a pose at that range) grows as (range / noise_growth_range_mm)^noise_growth_exponent: one
+  /// marker pixel's range sd grows as range^1.5 (STTAR, docs/simulator.md 10.1) and a marker
+  /// covers range^-2 pixels, so a pose's noise along the view ray grows as range^2.5 (rendered:
+  /// 0.045 / 0.15 / 0.36 mm RMS at 300 / 500 / 700 mm, most of it along the ray; 0.15 at 470).
+  /// Without it, noise at 700 mm looked like a manoeuvre to the filter, which followed it.
+  double noise_growth_range_mm = 470.0;
+  double noise_growth_exponent = 2.5;  // 0 turns it off
   int max_missed_frames = 5;  // frames without a pose before the filter and prior are dropped
   void Check() const;         // throws std::invalid_argument naming the bad field
 };
