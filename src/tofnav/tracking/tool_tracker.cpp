@@ -130,8 +130,13 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
                                ? std::max(1.0, m.noise_chi2 / static_cast<double>(dof))
                                : 1.0;
       const double range_ratio = raw->translation.norm() / options_.noise_growth_range_mm;
-      const double position_scale =
+      const double range_scale =
           std::max(1.0, std::pow(range_ratio, 2.0 * options_.noise_growth_exponent));
+      // In full while the camera stands still; fading as its motion raises the process noise:
+      // then the filter must follow the camera, and a lower gain made it lag (demo: 0.27 -> 0.34).
+      const double still =
+          accel_sigma > 0.0 ? options_.filter.position_accel_sigma_mm_per_s2 / accel_sigma : 1.0;
+      const double position_scale = 1.0 + (range_scale - 1.0) * still;
       // With a world filter the orientation is judged there, where the tool stands still; in
       // `ahat` it turns with the head, faster than the filter's rotation noise follows at 6 Hz.
       const PoseFilterUpdate update =

@@ -57,7 +57,9 @@ struct ToolTrackerOptions {
   /// marker pixel's range sd grows as range^1.5 (STTAR, docs/simulator.md 10.1) and a marker
   /// covers range^-2 pixels, so a pose's noise along the view ray grows as range^2.5 (rendered:
   /// 0.045 / 0.15 / 0.36 mm RMS at 300 / 500 / 700 mm, most of it along the ray; 0.15 at 470).
-  /// Without it, noise at 700 mm looked like a manoeuvre to the filter, which followed it.
+  /// Without it, noise at 700 mm looked like a manoeuvre to the filter, which followed it. It
+  /// counts in full while the camera stands still and fades as 3 mm/s^2 over the raised process
+  /// noise (camera_motion_bandwidth_per_s) when it moves.
   double noise_growth_range_mm = 470.0;
   double noise_growth_exponent = 2.5;  // 0 turns it off
   int max_missed_frames = 5;  // frames without a pose before the filter and prior are dropped
