@@ -34,8 +34,9 @@ PoseFilter::PoseFilter(const PoseFilterOptions& options) : options_(options) { o
 
 void PoseFilter::Reset() { initialised_ = false; }
 
-void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s, double variance_scale,
-                            double position_variance_scale) {
+void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s,
+                            const PoseFilterStep& step) {
+  const double variance_scale = step.measurement_variance_scale;
   initialised_ = true;
   last_s_ = timestamp_s;
   position_mm_ = measured.translation;
@@ -44,8 +45,9 @@ void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s, double 
   angular_velocity_rad_per_s_.setZero();
   const double sp = options_.position_sigma_mm, sr = options_.rotation_sigma_rad;
   const double rate = options_.initial_rate_sigma_rad_per_s;
-  position_cov_ = {variance_scale * position_variance_scale * sp * sp, 0.0, kInitialRateVariance};
-  rotation_cov_ = {variance_scale * sr * sr, 0.0, rate * rate};
+  position_cov_ = {variance_scale * step.position_variance_scale * sp * sp, 0.0,
+                   kInitialRateVariance};
+  rotation_cov_ = {variance_scale * step.rotation_variance_scale * sr * sr, 0.0, rate * rate};
   gated_in_a_row_ = 0;
   init_variance_scale_ = variance_scale;
   only_initialised_ = true;
@@ -72,13 +74,13 @@ std::optional<Rigid3d> PoseFilter::Predict(double timestamp_s) const {
 PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
                                     const PoseFilterStep& step) {
   const double measurement_variance_scale = step.measurement_variance_scale;
-  Require(
-      std::isfinite(measurement_variance_scale) && measurement_variance_scale >= 1.0 &&
-          std::isfinite(step.position_variance_scale) && step.position_variance_scale >= 1.0,
-      "PoseFilter::Update: measurement_variance_scale and position_variance_scale must be >= 1");
+  Require(std::isfinite(measurement_variance_scale) && measurement_variance_scale >= 1.0 &&
+              std::isfinite(step.position_variance_scale) && step.position_variance_scale >= 1.0 &&
+              std::isfinite(step.rotation_variance_scale) && step.rotation_variance_scale >= 1.0,
+          "PoseFilter::Update: the variance scales must be >= 1");
   const std::optional<Rigid3d> predicted = Predict(timestamp_s);
   if (!predicted) {  // first measurement, a gap, or time going backwards
-    Initialise(measured, timestamp_s, measurement_variance_scale, step.position_variance_scale);
+    Initialise(measured, timestamp_s, step);
     return {measured, false, true};
   }
   const double dt = timestamp_s - last_s_;
@@ -89,7 +91,7 @@ PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
   const Axis2 rot = Propagate(rotation_cov_, dt, options_.rotation_accel_sigma_rad_per_s2);
   const double sp = options_.position_sigma_mm, sr = options_.rotation_sigma_rad;
   const double s_pos = pos.pp + measurement_variance_scale * step.position_variance_scale * sp * sp;
-  const double s_rot = rot.pp + measurement_variance_scale * sr * sr;
+  const double s_rot = rot.pp + measurement_variance_scale * step.rotation_variance_scale * sr * sr;
   const Eigen::Vector3d innovation_pos = measured.translation - predicted->translation;
   const Eigen::Vector3d innovation_rot =
       RotationVector(measured.rotation * predicted->rotation.inverse());
@@ -103,8 +105,7 @@ PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
     // better one out: start again from it.
     const bool poor_start = only_initialised_ && measurement_variance_scale < init_variance_scale_;
     if (!poor_start && ++gated_in_a_row_ < options_.max_gated) return {*predicted, true, false};
-    Initialise(measured, timestamp_s, measurement_variance_scale,
-               step.position_variance_scale);  // a real jump
+    Initialise(measured, timestamp_s, step);  // a real jump
     return {measured, false, true};
   }
   gated_in_a_row_ = 0;

@@ -14,7 +14,7 @@ struct PoseFilterOptions {
   double rotation_accel_sigma_rad_per_s2 = 0.05;
   /// Measurement noise of a raw pose, per axis.
   double position_sigma_mm = 0.15;
-  double rotation_sigma_rad = 0.006;
+  double rotation_sigma_rad = 0.003;
   /// Innovation gate: chi-square with 6 degrees of freedom (22.46: p = 0.999). Innovations below
   /// both floors are never gated, so slow manoeuvres are followed, not rejected.
   double gate_chi2 = 22.46;
@@ -53,6 +53,8 @@ struct PoseFilterStep {
   /// >= 1 multiplies the position's noise variance alone (on top of the above): a marker's range
   /// noise, along the view ray, grows faster with range than the orientation's.
   double position_variance_scale = 1.0;
+  /// >= 1 multiplies the orientation's noise variance alone (on top of measurement_variance_scale).
+  double rotation_variance_scale = 1.0;
   /// false: the gate judges the position alone (another filter judges the orientation, e.g. one
   /// in the world frame, where a patient-fixed tool stands still while the head-worn camera turns).
   bool gate_on_rotation = true;
@@ -79,8 +81,7 @@ class PoseFilter {
   struct Axis2 {  // shared 2 x 2 covariance of (value, rate) of three isotropic axes
     double pp = 0.0, pv = 0.0, vv = 0.0;
   };
-  void Initialise(const Rigid3d& measured, double timestamp_s, double variance_scale,
-                  double position_variance_scale);
+  void Initialise(const Rigid3d& measured, double timestamp_s, const PoseFilterStep& step);
   static Axis2 Propagate(const Axis2& p, double dt_s, double accel_sigma);
 
   PoseFilterOptions options_;

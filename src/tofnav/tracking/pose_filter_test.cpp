@@ -151,11 +151,11 @@ TEST(PoseFilter, AMeasurementThatFitPoorlyPullsLess) {
   EXPECT_THROW(filter.Update(still, 0.0, {.measurement_variance_scale = 0.5}), PreconditionError);
 }
 
-// A state started from one poorly fitted pose (8 deg off, variance x 20) does not gate the next,
+// A state started from one poorly fitted pose (4 deg off, variance x 20) does not gate the next,
 // well fitted one as an outlier: the filter starts again from it.
 TEST(PoseFilter, APoorStartDoesNotLockOutBetterMeasurements) {
   const Rigid3d truth(Eigen::Quaterniond::Identity(), {0, 0, 500});
-  const Rigid3d off(Eigen::Quaterniond(Eigen::AngleAxisd(8.0 * kDeg, Eigen::Vector3d::UnitY())),
+  const Rigid3d off(Eigen::Quaterniond(Eigen::AngleAxisd(4.0 * kDeg, Eigen::Vector3d::UnitY())),
                     truth.translation);
   PoseFilterOptions options;
   options.initial_rate_sigma_rad_per_s = 0.01;  // a still tool: the state is confident at once

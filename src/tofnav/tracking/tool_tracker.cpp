@@ -27,8 +27,10 @@ void ToolTrackerOptions::Check() const {
   Require(std::isfinite(world_accel_sigma_rad_per_s2) && world_accel_sigma_rad_per_s2 > 0.0,
           "ToolTrackerOptions::world_accel_sigma_rad_per_s2 must be > 0");
   Require(std::isfinite(noise_growth_range_mm) && noise_growth_range_mm > 0.0 &&
-              std::isfinite(noise_growth_exponent) && noise_growth_exponent >= 0.0,
-          "ToolTrackerOptions: noise_growth_range_mm must be > 0 and noise_growth_exponent >= 0");
+              std::isfinite(rotation_noise_growth_range_mm) &&
+              rotation_noise_growth_range_mm > 0.0 && std::isfinite(noise_growth_exponent) &&
+              noise_growth_exponent >= 0.0,
+          "ToolTrackerOptions: the noise growth ranges must be > 0 and noise_growth_exponent >= 0");
   Require(camera_motion_bandwidth_per_s >= 0.0 && camera_motion_baseline_s > 0.0,
           "ToolTrackerOptions: camera_motion_bandwidth_per_s must be >= 0 and "
           "camera_motion_baseline_s > 0");
@@ -137,6 +139,9 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       const double still =
           accel_sigma > 0.0 ? options_.filter.position_accel_sigma_mm_per_s2 / accel_sigma : 1.0;
       const double position_scale = 1.0 + (range_scale - 1.0) * still;
+      const double rotation_scale =
+          std::max(1.0, std::pow(raw->translation.norm() / options_.rotation_noise_growth_range_mm,
+                                 2.0 * options_.noise_growth_exponent));
       // With a world filter the orientation is judged there, where the tool stands still; in
       // `ahat` it turns with the head, faster than the filter's rotation noise follows at 6 Hz.
       const PoseFilterUpdate update =
@@ -144,6 +149,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
                              {.position_accel_sigma_mm_per_s2 = accel_sigma,
                               .measurement_variance_scale = scale,
                               .position_variance_scale = position_scale,
+                              .rotation_variance_scale = rotation_scale,
                               .gate_on_rotation = !in_world});
       tracked.gated = update.gated;
       tracked.filter_reset = update.reset;
@@ -152,7 +158,8 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
         world_filters_[t].Reset();
       } else {
         const PoseFilterUpdate world = world_filters_[t].Update(
-            *world_from_ahat * *raw, timestamp_s, {.measurement_variance_scale = scale});
+            *world_from_ahat * *raw, timestamp_s,
+            {.measurement_variance_scale = scale, .rotation_variance_scale = rotation_scale});
         // Gated there, the world filter's output is its prediction: the held orientation of a
         // tool that stands still, better than the raw one the `ahat` filter may restart from.
         if (!update.gated) {

@@ -61,7 +61,12 @@ struct ToolTrackerOptions {
   /// counts in full while the camera stands still and fades as 3 mm/s^2 over the raised process
   /// noise (camera_motion_bandwidth_per_s) when it moves.
   double noise_growth_range_mm = 470.0;
-  double noise_growth_exponent = 2.5;  // 0 turns it off
+  double noise_growth_exponent = 2.5;  // 0 turns both off
+  /// ... and both filters' orientation sigma (filter.rotation_sigma_rad, 0.003 rad) beyond this
+  /// range, in full (the world filter's orientation does not follow the camera): the suite's disc
+  /// plates, raw, 0.16 deg RMS at 340 mm and 0.5-0.8 deg at 550-650 mm (0.0069 rad per axis at
+  /// 600 mm by the law). Near poses then count for more than far ones (docs/tracking.md 1).
+  double rotation_noise_growth_range_mm = 430.0;
   int max_missed_frames = 5;  // frames without a pose before the filter and prior are dropped
   void Check() const;         // throws std::invalid_argument naming the bad field
 };

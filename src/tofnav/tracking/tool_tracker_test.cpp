@@ -158,13 +158,12 @@ TEST(ToolTracker, HoldsTheWorldOrientationAcrossDroppedFramesAndSlamDrift) {
 // RMS; the suite's reference plates: 0.46-0.62). The world filter, tuned for a still tool
 // (world_rate and world_accel 0.003), averages more frames than the looser 0.01 while the tool
 // stands still, and still follows the turn within a bound: the simulator's patients never turn,
-// so this is where that tuning's cost is measured. Since session 29 the filters' measurement
-// noise is the tilt noise the calibrated simulator gives (0.006 rad per axis, 0.6 deg RMS in all):
-// still, 0.16 against 0.18 deg RMS; a turn is followed once its lag crosses the gate's 2 deg floor
-// (three gated frames, 67 ms at 45 Hz, then a restart): 2.2 deg worst (0.77 with the 0.003 rad of
-// the flat-floor simulator, which trusted each pose twice as much and averaged less).
+// so this is where that tuning's cost is measured (session 30, the orientation noise growing
+// with range beyond 430 mm: still, 0.18 against 0.23 deg RMS; turning, 0.85 deg worst. With a
+// flat 0.006 rad, tried in session 29, the turn was seen only once its lag crossed the gate's
+// 2 deg floor: 2.2 deg worst).
 TEST(ToolTracker, FollowsAPatientWhoTurnsTheHeadWhileAveragingAStillTool) {
-  constexpr double kMaxTurnErrorDeg = 2.5;        // the gate floor, 2 deg, and one frame's turn
+  constexpr double kMaxTurnErrorDeg = 1.0;        // worst filtered error while and after turning
   constexpr double kMaxStillToLooseRatio = 0.85;  // still spells: RMS against the 0.01 tuning
   constexpr double kDegPerRad = 180.0 / 3.141592653589793;
   constexpr double kTurnRadPerS = 5.0 / kDegPerRad;
