@@ -14,6 +14,12 @@ namespace {
 
 constexpr double kWorldPositionSigmaMm = 1e3;  // the world filter's position: not judged
 
+// A pose's noise variance relative to one at `from_mm`: (range / from_mm)^(2 exponent), never
+// below 1 (ToolTrackerOptions::noise_growth_exponent).
+double RangeVarianceScale(double range_mm, double from_mm, double exponent) {
+  return std::max(1.0, std::pow(range_mm / from_mm, 2.0 * exponent));
+}
+
 }  // namespace
 
 void ToolTrackerOptions::Check() const {
@@ -131,17 +137,16 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       const double scale = options_.inflate_noise_by_fit && dof > 0
                                ? std::max(1.0, m.noise_chi2 / static_cast<double>(dof))
                                : 1.0;
-      const double range_ratio = raw->translation.norm() / options_.noise_growth_range_mm;
-      const double range_scale =
-          std::max(1.0, std::pow(range_ratio, 2.0 * options_.noise_growth_exponent));
+      const double range_mm = raw->translation.norm();
+      const double range_scale = RangeVarianceScale(range_mm, options_.noise_growth_range_mm,
+                                                    options_.noise_growth_exponent);
       // In full while the camera stands still; fading as its motion raises the process noise:
       // then the filter must follow the camera, and a lower gain made it lag (demo: 0.27 -> 0.34).
       const double still =
           accel_sigma > 0.0 ? options_.filter.position_accel_sigma_mm_per_s2 / accel_sigma : 1.0;
       const double position_scale = 1.0 + (range_scale - 1.0) * still;
-      const double rotation_scale =
-          std::max(1.0, std::pow(raw->translation.norm() / options_.rotation_noise_growth_range_mm,
-                                 2.0 * options_.noise_growth_exponent));
+      const double rotation_scale = RangeVarianceScale(
+          range_mm, options_.rotation_noise_growth_range_mm, options_.noise_growth_exponent);
       // With a world filter the orientation is judged there, where the tool stands still; in
       // `ahat` it turns with the head, faster than the filter's rotation noise follows at 6 Hz.
       const PoseFilterUpdate update =
