@@ -22,11 +22,14 @@ struct ToolPoseRecord {
   double time_s = 0.0;           // host_ticks * 1e-7
   std::string tool;              // tool name
   ToolStatus status = ToolStatus::kOutOfView;
-  int markers_used = 0;                   // tool markers matched to detections
-  int marker_count = 0;                   // markers of the tool
-  double fre_mm = 0.0;                    // RMS fit error of the raw pose (0 without a pose)
-  bool gated = false;                     // the pose filter rejected the raw pose as an outlier
-  std::optional<Rigid3d> ahat_from_tool;  // raw measured pose
+  int markers_used = 0;  // tool markers matched to detections
+  int marker_count = 0;  // markers of the tool
+  double fre_mm = 0.0;   // RMS fit error of the raw pose (0 without a pose)
+  bool gated = false;    // the pose filter rejected the raw pose as an outlier
+  /// Per-axis sds of the raw pose under the tracker's noise model (0 without one; JSON only).
+  double rotation_sd_deg = 0.0;
+  double position_sd_mm = 0.0;
+  std::optional<Rigid3d> ahat_from_tool;           // raw measured pose
   std::optional<Rigid3d> filtered_ahat_from_tool;  // pose filter output (filter on, not gated)
   /// world_from_rig * rig_from_ahat * (filtered, else raw) ahat_from_tool, when the frame has a
   /// rig pose.

@@ -114,6 +114,8 @@ std::vector<ToolPoseRecord> DecodeToolPosesJson(std::string_view text,
     r.markers_used = static_cast<int>(GetInt(j, "markers_used", 0, kMaxMarkers, path));
     r.marker_count = static_cast<int>(GetInt(j, "marker_count", 0, kMaxMarkers, path));
     r.fre_mm = GetDouble(j, "fre_mm", path);
+    if (j.contains("rotation_sd_deg")) r.rotation_sd_deg = GetDouble(j, "rotation_sd_deg", path);
+    if (j.contains("position_sd_mm")) r.position_sd_mm = GetDouble(j, "position_sd_mm", path);
     const OrderedJson& gated = Field(j, "gated", path);
     if (!gated.is_boolean()) throw IoError(path, std::nullopt, "\"gated\" must be true or false");
     r.gated = gated.get<bool>();
@@ -140,6 +142,8 @@ std::string EncodeToolPosesJson(std::span<const ToolPoseRecord> records) {
                     {"markers_used", r.markers_used},
                     {"marker_count", r.marker_count},
                     {"fre_mm", r.fre_mm},
+                    {"rotation_sd_deg", r.rotation_sd_deg},
+                    {"position_sd_mm", r.position_sd_mm},
                     {"gated", r.gated},
                     {"ahat_from_tool", PoseJson(r.ahat_from_tool)},
                     {"filtered_ahat_from_tool", PoseJson(r.filtered_ahat_from_tool)},

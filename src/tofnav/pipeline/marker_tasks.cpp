@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "tofnav/core/units.hpp"
 #include "tofnav/markers/marker_centre.hpp"
 
 namespace tofnav {
@@ -23,6 +24,8 @@ ToolPoseRecord Record(std::size_t index, const AhatFrame& frame, const ToolGeome
   if (r.ahat_from_tool) {
     r.markers_used = tracked.measurement.used_markers;
     r.fre_mm = tracked.measurement.fre_rms_mm;
+    r.rotation_sd_deg = tracked.measurement.rotation_sd_rad * kRadToDeg;
+    r.position_sd_mm = tracked.measurement.position_sd_mm;
   }
   r.filtered_ahat_from_tool = tracked.filtered_ahat_from_tool;
   r.gated = tracked.gated;

@@ -14,31 +14,39 @@
 namespace tofnav {
 namespace {
 
-// Minimises sum (x_i - c_i)^T W_i (x_i - c_i), x_i = R m_i + t, R <- Exp(w) R, from `initial`:
-// dx/dw = -[R m]x, dx/dt = I. W_i = I - r r^T with c_i = 0 is the collinearity error.
+// Normal equations of sum (x_i - c_i)^T W_i (x_i - c_i), x_i = R m_i + t, in (w, t) with
+// R <- Exp(w) R: dx/dw = -[R m]x, dx/dt = I. Adds to h = J^T W J and g = J^T W e.
+void AddNormalEquations(std::span<const Eigen::Vector3d> markers,
+                        std::span<const Eigen::Vector3d> targets,
+                        std::span<const Eigen::Matrix3d> weights, const Eigen::Matrix3d& rotation,
+                        const Eigen::Vector3d& translation, Matrix6d& h, Vector6d& g) {
+  for (std::size_t i = 0; i < markers.size(); ++i) {
+    const Eigen::Vector3d rm = rotation * markers[i];
+    Eigen::Matrix<double, 3, 6> j;
+    j.leftCols<3>() << 0, rm.z(), -rm.y(), -rm.z(), 0, rm.x(), rm.y(), -rm.x(), 0;
+    j.rightCols<3>().setIdentity();
+    const Eigen::Matrix<double, 6, 3> jw = j.transpose() * weights[i];
+    h += jw * j;
+    g += jw * (rm + translation - targets[i]);
+  }
+}
+
+// Minimises sum (x_i - c_i)^T W_i (x_i - c_i) (AddNormalEquations) by Gauss-Newton from
+// `initial`. W_i = I - r r^T with c_i = 0 is the collinearity error.
 RayPoseResult WeightedGaussNewton(std::span<const Eigen::Vector3d> markers,
                                   std::span<const Eigen::Vector3d> targets,
                                   std::span<const Eigen::Matrix3d> weights, const Rigid3d& initial,
                                   const RayPoseOptions& options) {
-  const std::size_t n = markers.size();
   RayPoseResult result;
   Eigen::Matrix3d rotation = initial.RotationMatrix();
   Eigen::Vector3d translation = initial.translation;
   double max_lever_mm = 0.0;
   for (const Eigen::Vector3d& m : markers) max_lever_mm = std::max(max_lever_mm, m.norm());
   for (result.iterations = 1; result.iterations <= options.max_iterations; ++result.iterations) {
-    Eigen::Matrix<double, 6, 6> h = Eigen::Matrix<double, 6, 6>::Zero();
-    Eigen::Matrix<double, 6, 1> g = Eigen::Matrix<double, 6, 1>::Zero();
-    for (std::size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d rm = rotation * markers[i];
-      Eigen::Matrix<double, 3, 6> j;
-      j.leftCols<3>() << 0, rm.z(), -rm.y(), -rm.z(), 0, rm.x(), rm.y(), -rm.x(), 0;
-      j.rightCols<3>().setIdentity();
-      const Eigen::Matrix<double, 6, 3> jw = j.transpose() * weights[i];
-      h += jw * j;
-      g += jw * (rm + translation - targets[i]);
-    }
-    const Eigen::Matrix<double, 6, 1> step = -SolveSymmetric(h, g);
+    Matrix6d h = Matrix6d::Zero();
+    Vector6d g = Vector6d::Zero();
+    AddNormalEquations(markers, targets, weights, rotation, translation, h, g);
+    const Vector6d step = -SolveSymmetric(h, g);
     if (!step.allFinite()) break;
     const Eigen::Vector3d w = step.head<3>();
     rotation = FromRotationVector(w).toRotationMatrix() * rotation;
@@ -65,6 +73,23 @@ void SetRayDistance(std::span<const Eigen::Vector3d> markers,
 Eigen::Matrix3d OffRay(const Eigen::Vector3d& ray) {
   const Eigen::Vector3d r = ray.normalized();
   return Eigen::Matrix3d::Identity() - r * r.transpose();
+}
+
+// Per observation: the weight (I - r r^T) / s_lat^2 + r r^T / s_range^2 and the centre r d.
+void ObservationWeights(std::span<const RayRangeObservation> observations,
+                        std::vector<Eigen::Matrix3d>& weight,
+                        std::vector<Eigen::Vector3d>& centre) {
+  weight.resize(observations.size());
+  centre.resize(observations.size());
+  for (std::size_t i = 0; i < observations.size(); ++i) {
+    const RayRangeObservation& o = observations[i];
+    Require(o.lateral_sigma_mm > 0.0 && o.range_sigma_mm > 0.0,
+            "EstimatePoseFromRaysAndRanges: sigmas must be > 0");
+    const Eigen::Vector3d r = o.ray_in_ahat.normalized();
+    centre[i] = r * o.range_mm;
+    weight[i] = OffRay(r) / (o.lateral_sigma_mm * o.lateral_sigma_mm) +
+                r * r.transpose() / (o.range_sigma_mm * o.range_sigma_mm);
+  }
 }
 
 }  // namespace
@@ -98,22 +123,31 @@ RayPoseResult EstimatePoseFromRaysAndRanges(std::span<const Eigen::Vector3d> mar
   const std::size_t n = markers_in_tool.size();
   Require(n >= 3 && observations.size() == n,
           "EstimatePoseFromRaysAndRanges: needs >= 3 marker-observation pairs");
-  std::vector<Eigen::Matrix3d> off_ray(n), weight(n);
-  std::vector<Eigen::Vector3d> centre(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const RayRangeObservation& o = observations[i];
-    Require(o.lateral_sigma_mm > 0.0 && o.range_sigma_mm > 0.0,
-            "EstimatePoseFromRaysAndRanges: sigmas must be > 0");
-    const Eigen::Vector3d r = o.ray_in_ahat.normalized();
-    off_ray[i] = OffRay(r);
-    centre[i] = r * o.range_mm;
-    weight[i] = off_ray[i] / (o.lateral_sigma_mm * o.lateral_sigma_mm) +
-                r * r.transpose() / (o.range_sigma_mm * o.range_sigma_mm);
-  }
+  std::vector<Eigen::Matrix3d> off_ray(n), weight;
+  std::vector<Eigen::Vector3d> centre;
+  for (std::size_t i = 0; i < n; ++i) off_ray[i] = OffRay(observations[i].ray_in_ahat);
+  ObservationWeights(observations, weight, centre);
   RayPoseResult result =
       WeightedGaussNewton(markers_in_tool, centre, weight, initial_ahat_from_tool, options);
   SetRayDistance(markers_in_tool, off_ray, result);
   return result;
+}
+
+Eigen::Matrix<double, 6, 6> RayRangePoseCovariance(
+    std::span<const Eigen::Vector3d> markers_in_tool,
+    std::span<const RayRangeObservation> observations, const Rigid3d& ahat_from_tool) {
+  Require(markers_in_tool.size() >= 3 && observations.size() == markers_in_tool.size(),
+          "RayRangePoseCovariance: needs >= 3 marker-observation pairs");
+  std::vector<Eigen::Matrix3d> weight;
+  std::vector<Eigen::Vector3d> centre;
+  ObservationWeights(observations, weight, centre);
+  Matrix6d h = Matrix6d::Zero();
+  Vector6d g = Vector6d::Zero();
+  AddNormalEquations(markers_in_tool, centre, weight, ahat_from_tool.RotationMatrix(),
+                     ahat_from_tool.translation, h, g);
+  Matrix6d covariance;
+  for (int c = 0; c < 6; ++c) covariance.col(c) = SolveSymmetric(h, Matrix6d::Identity().col(c));
+  return covariance;
 }
 
 }  // namespace tofnav

@@ -53,4 +53,12 @@ RayPoseResult EstimatePoseFromRaysAndRanges(std::span<const Eigen::Vector3d> mar
                                             const Rigid3d& initial_ahat_from_tool,
                                             const RayPoseOptions& options = {});
 
+/// Covariance of a pose fitted to `observations` under their sigmas: (J^T W J)^-1 at
+/// `ahat_from_tool`, the first three coordinates a small rotation vector w in `ahat`
+/// (R <- Exp(w) R) [rad], the last three the translation [mm] (docs/tracking.md 9.5).
+/// Non-finite where the markers do not fix the pose. Throws as EstimatePoseFromRaysAndRanges.
+Eigen::Matrix<double, 6, 6> RayRangePoseCovariance(
+    std::span<const Eigen::Vector3d> markers_in_tool,
+    std::span<const RayRangeObservation> observations, const Rigid3d& ahat_from_tool);
+
 }  // namespace tofnav

@@ -5,8 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/core/rigid_fit.hpp"
+#include "tofnav/tracking/ray_pose.hpp"
 
 namespace tofnav {
 namespace {
@@ -85,6 +87,37 @@ class Fitter {
     return sum;
   }
 
+  // Sets r's per-axis sds from the covariance of `pose` on the markers in `in`: lateral sigmas
+  // as the check's, range sigmas from the one-pixel noise law over the blob's core pixels.
+  void SetSds(const std::vector<bool>& in, const Rigid3d& pose, const RobustPoseOptions& options,
+              RobustPose& r) const {
+    Points3d markers;
+    std::vector<RayRangeObservation> observations;
+    for (std::size_t k = 0; k < in.size(); ++k) {
+      if (!in[k]) continue;
+      const DetectedMarker& d = Detection(k);
+      const double range_mm = Centre(k).norm();
+      const double pixel_sigma_mm =
+          options.pixel_range_sigma_mm *
+          std::pow(range_mm / options.pixel_range_sigma_at_mm, options.pixel_range_sigma_exponent);
+      const double pixels = static_cast<double>(std::max<std::size_t>(1, d.core.size()));
+      markers.push_back(tool_.markers_in_tool[k]);
+      observations.push_back(
+          {.ray_in_ahat = d.ray_in_ahat.norm() > 0.5 ? d.ray_in_ahat : Centre(k).normalized(),
+           .range_mm = range_mm,
+           .lateral_sigma_mm = sigmas_[k].lateral_mm,
+           .range_sigma_mm =
+               d.pixel_pitch_rad > 0.0 ? pixel_sigma_mm / std::sqrt(pixels) : sigmas_[k].range_mm});
+    }
+    const Matrix6d covariance = RayRangePoseCovariance(markers, observations, pose);
+    if (!covariance.allFinite()) return;
+    const double rotation_var = covariance.topLeftCorner<3, 3>().trace() / 3.0;
+    const double position_var = covariance.bottomRightCorner<3, 3>().trace() / 3.0;
+    if (!(rotation_var > 0.0 && position_var > 0.0)) return;
+    r.rotation_sd_rad = std::sqrt(rotation_var);
+    r.position_sd_mm = std::sqrt(position_var);
+  }
+
   double Residual(std::size_t k, const Rigid3d& pose) const {
     return (pose * tool_.markers_in_tool[k] - Centre(k)).norm();
   }
@@ -159,6 +192,9 @@ void RobustPoseOptions::Check() const {
   Require(range_sigma_floor_mm > 0.0 && isotropic_sigma_mm > 0.0,
           "RobustPoseOptions: range_sigma_floor_mm and isotropic_sigma_mm must be > 0");
   Require(check_quantile_z > 0.0, "RobustPoseOptions::check_quantile_z must be > 0");
+  Require(pixel_range_sigma_mm > 0.0 && pixel_range_sigma_at_mm > 0.0 &&
+              std::isfinite(pixel_range_sigma_exponent),
+          "RobustPoseOptions: pixel_range_sigma_mm and pixel_range_sigma_at_mm must be > 0");
 }
 
 RobustPose FitToolMarkers(std::span<const DetectedMarker> detections,
@@ -213,6 +249,7 @@ RobustPose FitToolMarkers(std::span<const DetectedMarker> detections,
     sum2 += e * e;
   }
   r.fre_rms_mm = std::sqrt(sum2 / static_cast<double>(r.residuals_mm.size()));
+  fitter.SetSds(in, r.ahat_from_tool, options, r);
   return r;
 }
 

@@ -46,6 +46,13 @@ struct RobustPoseOptions {
   /// Standard-normal quantile of the chi-square test (Wilson-Hilferty): 3.09 fails a clean frame
   /// about once in 1000.
   double check_quantile_z = 3.09;
+  /// Noise model of the pose's reported sds (RobustPose::rotation_sd_rad): one pixel's range sd
+  /// sigma (range / at)^exponent, a marker's that over the square root of its core pixels, and
+  /// the check's lateral sigma. The defaults are a real HoloLens 2's (STTAR, docs/tracking.md 3):
+  /// 0.3 mm at 350 mm, growing as range^1.5.
+  double pixel_range_sigma_mm = 0.3;
+  double pixel_range_sigma_at_mm = 350.0;
+  double pixel_range_sigma_exponent = 1.5;
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
 
@@ -57,6 +64,11 @@ struct RobustPose {
   double chi2 = 0.0;                 // sum of the used markers' squared normalised residuals
   double chi2_limit = 0.0;           // what the noise model allows for 3 n - 6 degrees of freedom
   bool outliers_checked = false;     // >= 4 markers were used, so a wrong one could be found
+  /// Per-axis standard deviations of the pose under the sds' noise model (RayRangePoseCovariance:
+  /// square roots of the rotation's and the translation's mean variance); 0 where the markers
+  /// do not fix it.
+  double rotation_sd_rad = 0.0;
+  double position_sd_mm = 0.0;
 };
 
 /// The pose of a tool matched to `detections` (`marker_detection`: per tool marker, an index

@@ -75,6 +75,8 @@ void FitUsed(std::span<const DetectedMarker> detections, const Points3d& centres
   r.noise_chi2 = fit.chi2;
   r.noise_chi2_limit = fit.chi2_limit;
   r.outliers_checked = fit.outliers_checked;
+  r.rotation_sd_rad = fit.rotation_sd_rad;
+  r.position_sd_mm = fit.position_sd_mm;
 }
 
 // The matched markers' ranges shortened by gain x their entrance angle under the fitted pose

@@ -75,6 +75,9 @@ struct ToolPoseResult {
   double noise_chi2 = 0.0;
   double noise_chi2_limit = 0.0;
   bool outliers_checked = false;
+  /// Per-axis sds of the pose under the noise model (RobustPose); 0 where unknown.
+  double rotation_sd_rad = 0.0;
+  double position_sd_mm = 0.0;
   int candidate_count = 0;  // candidates the search found for this tool
   /// Candidates refused because the frame's images show no marker, and nothing that could hide
   /// one, where they put an unmatched marker (MarkerVoidTest; docs/tracking.md 6).
