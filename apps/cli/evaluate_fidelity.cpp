@@ -66,10 +66,27 @@ int RunEvaluateFidelity(int argc, char** argv) {
          "the range noise floor grows as (range / 350 mm)^E in every simulation (unset: "
          "the simulator's default, 1.5; 0: flat as before session 29; docs/simulator.md 10.1)")
       ->check(CLI::Range(0.0, 4.0));
+  std::vector<std::string> phantom_models;
+  app.add_option("--phantom-depth-model", phantom_models,
+                 "PHANTOM=depth_model.json (photopolymer or nylon; repeatable): Table I after "
+                 "correction, the phantom's frames corrected by this model (e.g. identified on a "
+                 "session of that phantom)");
   app.add_flag("--json", json, "print fidelity.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");
   TOFNAV_PARSE(app, argc, argv);
   options.out = out;
+  for (const std::string& given : phantom_models) {
+    const std::size_t eq = given.find('=');
+    const std::string phantom = given.substr(0, eq);
+    if (eq == std::string::npos || (phantom != "photopolymer" && phantom != "nylon")) {
+      std::fprintf(stderr,
+                   "tofnav evaluate fidelity: --phantom-depth-model '%s': expected "
+                   "photopolymer=FILE or nylon=FILE\n",
+                   given.c_str());
+      return EXIT_FAILURE;
+    }
+    options.phantom_depth_models[phantom] = ReadDepthModelJson(given.substr(eq + 1));
+  }
   if (multipath_gain != 1.0 || floor_exponent) {
     options.vary = [multipath_gain, floor_exponent](sim::Scenario& s) {
       s.render.multipath.gain = multipath_gain;

@@ -7,11 +7,13 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include "tofnav/casefile/depth_model_json.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/sim/scenario.hpp"
 
@@ -53,6 +55,9 @@ struct FidelityOptions {
   /// The experiments to run (names as FidelityExperiments()); empty: all. The tape stage runs
   /// whenever materials, the skin study or the markers do (its f_rf corrects their markers).
   std::vector<std::string> only;
+  /// Table I "after": a depth model per phantom ("photopolymer", "nylon"), e.g. one identified
+  /// on a session of that phantom, corrects its frames before they are averaged; adds the rows.
+  std::map<std::string, DepthModelFile> phantom_depth_models;
   /// Applied to every scene before it is simulated (e.g. a render setting under study); optional.
   std::function<void(sim::Scenario&)> vary;
   std::function<void(const std::string&, std::size_t, std::size_t)> progress;

@@ -38,5 +38,28 @@ TEST(FidelityExperiments, TheMarkersRunAfterTheTapeWhoseFrfTheyUse) {
   EXPECT_LT(tape, markers);
 }
 
+TEST(FidelityPhantoms, TableIAfterCorrectsEveryFrameByTheGivenModel) {
+  // A model that only subtracts C1 moves every pixel's mean by exactly C1: after its correction
+  // the head's median is the one before it on the same pixels minus C1, with the same spread, up
+  // to float rounding of the corrected image.
+  constexpr double kC1Mm = 5.0, kTolMm = 1e-3;
+  FidelityOptions options;
+  options.out = std::filesystem::path(::testing::TempDir()) / "fidelity_phantoms_after";
+  options.frames_scale = 0.05;  // 5 frames per phantom
+  options.only = {"phantoms"};
+  DepthModelFile model;
+  model.model.c1_mm = kC1Mm;
+  options.phantom_depth_models["nylon"] = model;
+  const FidelityResult result = RunFidelity(options);
+  ASSERT_EQ(result.rows.size(), 6u);  // photopolymer before (2), nylon before (2) and after (2)
+  EXPECT_EQ(result.rows[2].experiment, "Table I, before");
+  const FidelityRow& after = result.rows[4];
+  EXPECT_EQ(after.experiment, "Table I, after");
+  EXPECT_EQ(after.published, 1.08);  // the paper's nylon head after correction
+  const nlohmann::ordered_json& kept = result.details.at("phantoms").at(1).at("after");
+  EXPECT_NEAR(after.ours, kept.at("before_median_mm").get<double>() - kC1Mm, kTolMm);
+  EXPECT_NEAR(result.rows[5].ours, kept.at("before_iqr_mm").get<double>(), kTolMm);
+}
+
 }  // namespace
 }  // namespace tofnav
