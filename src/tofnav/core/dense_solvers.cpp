@@ -22,6 +22,7 @@ SymmetricEigen6 DecomposeSymmetric(const Matrix6d& m) {
 }
 
 Vector6d SolveSymmetric(const Matrix6d& a, const Vector6d& b) { return a.ldlt().solve(b); }
+Matrix6d InvertSymmetric(const Matrix6d& a) { return a.ldlt().solve(Matrix6d::Identity()); }
 
 Eigen::Quaterniond RotationBetween(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
   return Eigen::Quaterniond::FromTwoVectors(from, to);

@@ -28,6 +28,8 @@ SymmetricEigen6 DecomposeSymmetric(const Matrix6d& m);
 
 /// x with a x = b for a symmetric positive (semi-)definite `a` (Eigen's LDLT with pivoting).
 Vector6d SolveSymmetric(const Matrix6d& a, const Vector6d& b);
+/// The inverse of a symmetric positive definite `a` from one such factorisation.
+Matrix6d InvertSymmetric(const Matrix6d& a);
 
 /// The smallest rotation taking direction `from` to direction `to` (Eigen's FromTwoVectors; any
 /// half turn about an axis perpendicular to both when they are opposite).

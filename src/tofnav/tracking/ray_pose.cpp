@@ -145,9 +145,7 @@ Eigen::Matrix<double, 6, 6> RayRangePoseCovariance(
   Vector6d g = Vector6d::Zero();
   AddNormalEquations(markers_in_tool, centre, weight, ahat_from_tool.RotationMatrix(),
                      ahat_from_tool.translation, h, g);
-  Matrix6d covariance;
-  for (int c = 0; c < 6; ++c) covariance.col(c) = SolveSymmetric(h, Matrix6d::Identity().col(c));
-  return covariance;
+  return InvertSymmetric(h);
 }
 
 }  // namespace tofnav

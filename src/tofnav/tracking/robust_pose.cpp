@@ -194,7 +194,8 @@ void RobustPoseOptions::Check() const {
   Require(check_quantile_z > 0.0, "RobustPoseOptions::check_quantile_z must be > 0");
   Require(pixel_range_sigma_mm > 0.0 && pixel_range_sigma_at_mm > 0.0 &&
               std::isfinite(pixel_range_sigma_exponent),
-          "RobustPoseOptions: pixel_range_sigma_mm and pixel_range_sigma_at_mm must be > 0");
+          "RobustPoseOptions: pixel_range_sigma_mm and pixel_range_sigma_at_mm must be > 0 and "
+          "pixel_range_sigma_exponent finite");
 }
 
 RobustPose FitToolMarkers(std::span<const DetectedMarker> detections,
