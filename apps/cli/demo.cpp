@@ -16,6 +16,7 @@
 #include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/report/report.hpp"
+#include "tofnav/sim/multipath.hpp"
 
 namespace tofnav {
 namespace {
@@ -45,10 +46,13 @@ int RunDemo(int argc, char** argv) {
                  "to the paper's 1000-frame sessions, slower)")
       ->check(CLI::Range(0.05, 20.0));
   app.add_option("--seed", seed, "random seed of the simulations");
-  double multipath_gain = 1.0;
+  const double default_multipath_gain = sim::MultipathOptions{}.gain;
+  double multipath_gain = default_multipath_gain;
   app.add_option("--multipath-gain", multipath_gain,
-                 "one-bounce multipath of the simulations: 1 realism, 0 off (the "
-                 "friendlier conditions of the earlier figures, docs/demo.md)")
+                 "one-bounce multipath of the simulations: the simulator's calibrated default "
+                 "(docs/simulator.md 10), 0 off (the friendlier conditions of the earlier "
+                 "figures, docs/demo.md)")
+      ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
   std::string profile = "raw";
   std::optional<std::uint32_t> bitrate_bps;
@@ -77,7 +81,7 @@ int RunDemo(int argc, char** argv) {
   ctx.stream_profile = *ParseHl2ssStreamProfile(profile);
   ctx.bitrate_bps = bitrate_bps;
   ScaleDemoFrames(ctx, frames_scale);
-  if (multipath_gain != 1.0) {
+  if (multipath_gain != default_multipath_gain) {
     ctx.vary_stage = ctx.vary_session = [multipath_gain](sim::Scenario& s) {
       s.render.multipath.gain = multipath_gain;
     };

@@ -12,6 +12,7 @@
 
 #include "tofnav/pipeline/paper_method.hpp"
 #include "tofnav/recording/hl2ss_recording.hpp"
+#include "tofnav/sim/multipath.hpp"
 #include "tofnav/sim/scenario_variation.hpp"
 
 namespace tofnav {
@@ -26,7 +27,7 @@ struct SuiteCase {
   double head_scale = 1.0;       // ct: voxel spacing scaled (a smaller or larger head)
   std::uint64_t seed = 1;
   std::string device = "synthetic";  // synthetic | perturbed:<n> | folder:<hl2ss calibration>
-  double multipath_gain = 1.0;
+  double multipath_gain = sim::MultipathOptions{}.gain;  // the simulator's calibrated default
   /// >= 0 replaces the simulator's range noise floor exponent (NoiseOptions::
   /// depth_sigma_floor_exponent; its default 1.5 meets STTAR's marker rows, docs/simulator.md 10.1;
   /// 0 is the flat floor of the suites before session 29).

@@ -78,21 +78,23 @@ void Material::Check() const {
 }
 
 // Physical presets: bias ~ a c tau / 2 (7.49 mm per 50 ps at a = 1), a grows with theta, and the
-// intensity term lowers the bias at close range. Model presets: docs/tof_physics.md section 5.2.
+// intensity term lowers the bias at close range. Nylon, photopolymer and PLA are calibrated on the
+// paper's materials plate and Table I phantoms, skin on its skin study (docs/simulator.md 10).
+// Model presets: docs/tof_physics.md section 5.2.
 Material SkinMaterial() {
   return WithModel(Subsurface("skin", 0.55, 0.9, 52.0, 0.3, 0.5), 2.8, 0.010, 4.0);
 }
 
 Material NylonMaterial() {
-  return WithModel(Subsurface("nylon", 0.6, 0.75, 80.0, 0.3, 2.0), 2.7, 0.012, 3.7);
+  return WithModel(Subsurface("nylon", 0.6, 0.75, 60.0, 0.3, 3.5), 2.7, 0.012, 3.7);
 }
 
 Material PhotopolymerMaterial() {
-  return WithModel(Subsurface("photopolymer", 0.7, 0.75, 120.0, 0.3, 1.5), 9.2, 0.007, 5.5);
+  return WithModel(Subsurface("photopolymer", 0.7, 0.75, 115.0, 0.36, 2.6), 9.2, 0.007, 5.5);
 }
 
 Material PlaMaterial() {
-  return WithModel(Subsurface("pla", 0.5, 0.4, 300.0, 0.7, 2.0), 17.0, 0.010, 12.0);
+  return WithModel(Subsurface("pla", 0.5, 0.4, 300.0, 0.7, 5.0), 17.0, 0.010, 12.0);
 }
 
 Material PcAbsMaterial() { return Subsurface("pc_abs", 0.05, 0.5, 50.0, 0.0, 0.0); }

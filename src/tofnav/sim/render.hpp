@@ -23,7 +23,8 @@ namespace tofnav::sim {
 /// Lens scattering (docs/tof_physics.md 6.3): the complex range image is convolved with
 /// (1 - wide - narrow) delta + wide G(wide_sigma) + narrow G(narrow_sigma).
 struct ScatterOptions {
-  double wide_fraction = 1e-3;  // epsilon_1, dimensionless
+  /// epsilon_1, dimensionless; set by the materials plate's angle rows (docs/simulator.md 10).
+  double wide_fraction = 1e-4;
   double wide_sigma_px = 30.0;
   double narrow_fraction = 1e-2;  // epsilon_2, dimensionless: the marker halo
   double narrow_sigma_px = 1.5;

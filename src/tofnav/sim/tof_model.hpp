@@ -31,7 +31,8 @@ struct SensorOptions {
   double ab_clip = 65535.0;
   double wiggle_amplitude_mm = 1.0;  // cyclic error A sin(2 pi d / period + phase)
   double wiggle_period_mm = 1055.0 / 3.0;
-  double wiggle_phase_rad = 0.0;
+  /// Rising from 420 to 595 mm; set by the materials plate's rows (docs/simulator.md 10).
+  double wiggle_phase_rad = 3.5;
   double intensity_reference_ab = 130.0;  // AB_ref of the intensity bias term
   bool floor_depth = false;               // quantise by truncation instead of rounding
   double ModulationHz() const;

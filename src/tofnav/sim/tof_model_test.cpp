@@ -124,6 +124,13 @@ TEST(DepthNoise, TheFloorGrowsWithRange) {
 TEST(Wiggle, IsASinusoidOfPeriodLOverThree) {
   SensorOptions sensor;
   EXPECT_NEAR(sensor.ModulationHz(), 142.08e6, 0.01e6);
+  // The default phase (3.5 rad, docs/simulator.md 10): lowest at 419.5 mm, highest at 595.4 mm.
+  const double period_mm = 1055.0 / 3.0;
+  const double low_mm = (3.5 * std::numbers::pi - 3.5) * period_mm / (2.0 * std::numbers::pi);
+  EXPECT_NEAR(low_mm, 419.5, 0.1);
+  EXPECT_NEAR(WiggleMm(sensor, low_mm), -1.0, 1e-12);
+  EXPECT_NEAR(WiggleMm(sensor, low_mm + period_mm / 2.0), 1.0, 1e-12);
+  sensor.wiggle_phase_rad = 0.0;
   EXPECT_NEAR(WiggleMm(sensor, 1055.0 / 12.0), 1.0, 1e-12);
   EXPECT_NEAR(WiggleMm(sensor, 100.0), WiggleMm(sensor, 100.0 + 1055.0 / 3.0), 1e-12);
   sensor.wiggle_amplitude_mm = 0.0;
