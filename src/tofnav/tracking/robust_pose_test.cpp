@@ -113,8 +113,8 @@ TEST(RobustToolPose, AnOccludedSphereDoesNotMoveThePoseBeyondTheNoise) {
   std::vector<Rigid3d> clean;
   WorstShifts worst, left_out;
   for (int s = 0; s < kSeeds; ++s) {
-    std::vector<DetectedMarker> three = Detect(100 + s, false);
-    const ToolPoseResult whole = Pose(three, tool);
+    std::vector<DetectedMarker> clean_detections = Detect(100 + s, false);
+    const ToolPoseResult whole = Pose(clean_detections, tool);
     ASSERT_TRUE(whole.ahat_from_tool.has_value()) << s;
     EXPECT_EQ(whole.marker_use[kMarker], MarkerUse::kUsed) << s;
     clean.push_back(*whole.ahat_from_tool);
@@ -126,11 +126,11 @@ TEST(RobustToolPose, AnOccludedSphereDoesNotMoveThePoseBeyondTheNoise) {
     EXPECT_EQ(robust.used_markers, 3) << s;
     // Leaving the marker out costs a three-marker fit's noise whatever hid it; what the occluder
     // may not do is move the other three: compare with the clean frame's fit without the marker.
-    three.erase(three.begin() + whole.marker_detection[kMarker]);
-    const ToolPoseResult clean_three = Pose(three, tool);
+    clean_detections.erase(clean_detections.begin() + whole.marker_detection[kMarker]);
+    const ToolPoseResult clean_three = Pose(clean_detections, tool);
     ASSERT_TRUE(clean_three.ahat_from_tool.has_value()) << s;
     worst.Add(robust, plain, *clean_three.ahat_from_tool);
-    left_out.Add(clean_three, whole, clean.back());
+    left_out.Add(clean_three, whole, clean.back());  // its "robust" shift: three against four
   }
   worst.Check("occluded sphere", CleanJitter(clean));
   std::printf("the marker left out of the clean frames: worst shift %.3f mm %.3f deg\n",
