@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <optional>
 
 #include "commands.hpp"
 #include "config_json.hpp"
@@ -14,7 +15,6 @@
 #include "progress.hpp"
 #include "tofnav/evaluation/fidelity.hpp"
 #include "tofnav/io/file.hpp"
-#include "tofnav/sim/multipath.hpp"
 
 namespace tofnav {
 namespace {
@@ -56,12 +56,11 @@ int RunEvaluateFidelity(int argc, char** argv) {
                  "run only these experiments (repeatable): tape, markers (STTAR's sphere tool), "
                  "materials, phantoms, skin")
       ->check(CLI::IsMember(FidelityExperiments()));
-  const double default_multipath_gain = sim::MultipathOptions{}.gain;
-  double multipath_gain = default_multipath_gain;
+  std::optional<double> multipath_gain;
   app.add_option("--multipath-gain", multipath_gain,
-                 "one-bounce multipath of every simulation: the simulator's calibrated default, "
-                 "0 off (to see what the indirect light does to each row)")
-      ->capture_default_str()
+                 "one-bounce multipath of every simulation (unset: the simulator's calibrated "
+                 "default, 0.7, docs/simulator.md 10; 0: off, to see what the indirect light does "
+                 "to each row)")
       ->check(CLI::Range(0.0, 1.0));
   std::optional<double> floor_exponent;
   app.add_option(
@@ -90,9 +89,9 @@ int RunEvaluateFidelity(int argc, char** argv) {
     }
     options.phantom_depth_models[phantom] = ReadDepthModelJson(given.substr(eq + 1));
   }
-  if (multipath_gain != default_multipath_gain || floor_exponent) {
+  if (multipath_gain || floor_exponent) {
     options.vary = [multipath_gain, floor_exponent](sim::Scenario& s) {
-      s.render.multipath.gain = multipath_gain;
+      if (multipath_gain) s.render.multipath.gain = *multipath_gain;
       if (floor_exponent) s.render.noise.depth_sigma_floor_exponent = *floor_exponent;
     };
   }
