@@ -56,6 +56,8 @@ int RunEvaluateDepth(int argc, char** argv) {
       row["after_iqr_mm"] = o.after_mm->iqr();
       row["reduction_percent"] = o.reduction_percent;
     }
+    row["by_incidence_deg"] = DepthErrorBinsJson(o.by_incidence_deg, "deg");
+    row["by_range_mm"] = DepthErrorBinsJson(o.by_range_mm, "mm");
     rows.push_back(row);
   }
   if (json_out) {
@@ -103,6 +105,23 @@ int RunEvaluateDepth(int argc, char** argv) {
                  "for reference only; worse after correction is expected, not a failure\n";
   }
   std::cout << "in ROI: share of the object's pixels in the automatic head region (identify's)\n";
+  for (const ObjectDepthError& o : evaluation.objects) {
+    if (o.role != "target") continue;
+    const auto print_bins = [&](const std::vector<DepthErrorBin>& bins, const char* what,
+                                const char* unit) {
+      std::cout << "'" << o.name << "' by true " << what << ": " << std::setprecision(0);
+      for (const DepthErrorBin& b : bins) {
+        std::cout << "\n  " << std::setw(4) << b.from << "-" << std::left << std::setw(4) << b.to
+                  << std::right << unit << std::setw(9) << b.pixels << " px  before "
+                  << std::setprecision(2) << std::setw(6) << b.before_median_mm;
+        if (b.after_median_mm) std::cout << "  after " << std::setw(6) << *b.after_median_mm;
+        std::cout << std::setprecision(0);
+      }
+      std::cout << "\n" << std::setprecision(2);
+    };
+    print_bins(o.by_incidence_deg, "incidence", " deg");
+    print_bins(o.by_range_mm, "range", " mm");
+  }
   return EXIT_SUCCESS;
 }
 

@@ -230,6 +230,10 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
                                 {"reduction_percent", o.reduction_percent},
                                 {"head_region_percent", o.head_region_percent},
                                 {"target", o.name == head}});
+    if (o.name == head) {
+      stage["objects"].back()["by_incidence_deg"] = DepthErrorBinsJson(o.by_incidence_deg, "deg");
+      stage["objects"].back()["by_range_mm"] = DepthErrorBinsJson(o.by_range_mm, "mm");
+    }
   }
   Require(head_error != nullptr, "no head pixel was evaluated");
   if (ctx.stability_subsets > 0) {

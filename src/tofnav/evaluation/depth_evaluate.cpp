@@ -5,12 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <span>
 
 #include "tofnav/correction/correct_range.hpp"
 #include "tofnav/correction/identification_frame.hpp"
+#include "tofnav/correction/range_normals.hpp"
 #include "tofnav/evaluation/truth_hits.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
@@ -34,6 +37,32 @@ bool Interior(const Image<int>& labels, const Image<float>& truth, int u, int v)
     }
   }
   return true;
+}
+
+constexpr double kIncidenceBinDeg = 15.0;
+constexpr double kRangeBinMm = 100.0;
+
+// Medians of the errors whose key (range or incidence) falls in each `width` bin; NaN keys are
+// left out.
+std::vector<DepthErrorBin> ErrorBins(const ObjectDepthError& o, const std::vector<float>& key,
+                                     double width) {
+  std::map<long, std::pair<std::vector<float>, std::vector<float>>> bins;
+  for (std::size_t i = 0; i < key.size(); ++i) {
+    if (std::isnan(key[i])) continue;
+    auto& [before, after] = bins[std::lround(std::floor(key[i] / width))];
+    before.push_back(o.before_errors_mm[i]);
+    if (!o.after_errors_mm.empty()) after.push_back(o.after_errors_mm[i]);
+  }
+  std::vector<DepthErrorBin> result;
+  for (const auto& [bin, errors] : bins) {
+    DepthErrorBin b{.from = static_cast<double>(bin) * width,
+                    .to = static_cast<double>(bin + 1) * width,
+                    .pixels = errors.first.size(),
+                    .before_median_mm = Summarise(errors.first).median};
+    if (!errors.second.empty()) b.after_median_mm = Summarise(errors.second).median;
+    result.push_back(b);
+  }
+  return result;
 }
 
 }  // namespace
@@ -80,6 +109,7 @@ DepthEvaluation EvaluateDepthAgainstTruth(
                   "a truth range frame (float32 little-endian)");
     const Image<int> labels = CastTruthHits(scenario.scene, caster, truth_frames[i], camera).object;
     const FrameSegmentation roi = SegmentFrame(frame, camera, roi_options);
+    const RangeNormals true_normals = ComputeRangeNormals(truth_range, camera);
     std::optional<Image<float>> corrected;
     if (model) corrected = CorrectRangeImage(frame, camera, model->model, correct_options);
     for (int v = 0; v < kAhatHeight; ++v) {
@@ -94,6 +124,11 @@ DepthEvaluation EvaluateDepthAgainstTruth(
         if (roi.labels(u, v) == static_cast<std::uint8_t>(PixelClass::kHead)) ++in_roi[name];
         o.before_errors_mm.push_back(static_cast<float>(measured) - truth_range(u, v));
         if (corrected) o.after_errors_mm.push_back((*corrected)(u, v) - truth_range(u, v));
+        o.true_range_mm.push_back(truth_range(u, v));
+        o.true_incidence_deg.push_back(
+            true_normals.normal(u, v).isZero()
+                ? std::numeric_limits<float>::quiet_NaN()
+                : static_cast<float>(true_normals.incidence_rad(u, v) * 180.0 / std::numbers::pi));
       }
     }
     if (progress) progress(n + 1, picked.size());
@@ -104,6 +139,8 @@ DepthEvaluation EvaluateDepthAgainstTruth(
   for (auto& [name, o] : objects) {
     o.name = name;
     o.before_mm = Summarise(o.before_errors_mm);
+    o.by_incidence_deg = ErrorBins(o, o.true_incidence_deg, kIncidenceBinDeg);
+    o.by_range_mm = ErrorBins(o, o.true_range_mm, kRangeBinMm);
     o.role = target.empty() ? "object" : name == target ? "target" : "other";
     o.head_region_percent = o.before_mm.count > 0 ? 100.0 * static_cast<double>(in_roi[name]) /
                                                         static_cast<double>(o.before_mm.count)
@@ -118,6 +155,19 @@ DepthEvaluation EvaluateDepthAgainstTruth(
     result.objects.push_back(std::move(o));
   }
   return result;
+}
+
+nlohmann::json DepthErrorBinsJson(const std::vector<DepthErrorBin>& bins, const std::string& unit) {
+  Json rows = Json::array();
+  for (const DepthErrorBin& b : bins) {
+    Json row{{"from_" + unit, b.from},
+             {"to_" + unit, b.to},
+             {"pixels", b.pixels},
+             {"before_median_mm", b.before_median_mm}};
+    if (b.after_median_mm) row["after_median_mm"] = *b.after_median_mm;
+    rows.push_back(std::move(row));
+  }
+  return rows;
 }
 
 }  // namespace tofnav

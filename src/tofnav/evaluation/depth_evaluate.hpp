@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <filesystem>
 #include <functional>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,14 @@
 
 namespace tofnav {
 
+/// One object's signed depth errors within one bin of the true surface's incidence angle or range.
+struct DepthErrorBin {
+  double from = 0.0, to = 0.0;  // [deg] or [mm], as the list holding it says
+  std::size_t pixels = 0;
+  double before_median_mm = 0.0;
+  std::optional<double> after_median_mm;  // with a depth model
+};
+
 struct ObjectDepthError {
   std::string name;  // scene object
   /// "target": the patient's object, the one the head model is identified on; "other": another
@@ -29,6 +38,12 @@ struct ObjectDepthError {
   std::optional<Summary> after_mm;  // with a depth model
   double reduction_percent = 0.0;   // 100 (1 - |after median| / |before median|)
   std::vector<float> before_errors_mm, after_errors_mm;  // the errors themselves (histograms)
+  /// Per error: the true range [mm] and the true incidence angle [deg] (NaN where the truth's
+  /// normal is unknown), from truth_range_f32.bin.
+  std::vector<float> true_range_mm, true_incidence_deg;
+  /// The errors by the true incidence (15 deg bins) and the true range (100 mm bins), bins with
+  /// pixels only: where a depth model's residual lies (docs/correction.md 2.5).
+  std::vector<DepthErrorBin> by_incidence_deg, by_range_mm;
 };
 
 struct DepthEvaluation {
@@ -47,5 +62,9 @@ DepthEvaluation EvaluateDepthAgainstTruth(
     const std::filesystem::path& truth_dir, sim::Scenario scenario,
     const std::optional<DepthModelFile>& model, int max_frames,
     const std::function<void(std::size_t, std::size_t)>& progress = {});
+
+/// The bins as a JSON array: [{"from", "to", "pixels", "before_median_mm", "after_median_mm"
+/// (with a model)}, ...]; `unit` names from/to ("deg" or "mm": keys "from_deg", "to_deg", ...).
+nlohmann::json DepthErrorBinsJson(const std::vector<DepthErrorBin>& bins, const std::string& unit);
 
 }  // namespace tofnav
