@@ -19,7 +19,8 @@ struct VolumeWriteOptions {
   VolumeSampleType sample_type = VolumeSampleType::kFloat32;
   /// NRRD: gzip encoding (else raw). NIfTI ignores it: .nii.gz is gzip, .nii is not.
   bool gzip = true;
-  int gzip_level = 6;  ///< zlib level 0..9
+  /// zlib level 0..9: 1 writes a head CT 4x faster than 6 for 3 % more bytes (docs/benchmarks.md)
+  int gzip_level = 1;
   void Check() const;  ///< throws PreconditionError naming the bad field
 };
 
