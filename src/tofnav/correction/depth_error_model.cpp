@@ -58,7 +58,12 @@ double DepthErrorModel::BiasMm(double true_range_mm, double theta_rad, double ab
 
 double DepthErrorModel::CorrectRangeMm(double measured_range_mm, double theta_rad,
                                        double ab) const {
-  return (cyclic.RemoveMm(measured_range_mm) - c1_mm - c3_mm * AngleFeature(theta_rad) -
+  return CorrectDecycledRangeMm(cyclic.RemoveMm(measured_range_mm), theta_rad, ab);
+}
+
+double DepthErrorModel::CorrectDecycledRangeMm(double decycled_range_mm, double theta_rad,
+                                               double ab) const {
+  return (decycled_range_mm - c1_mm - c3_mm * AngleFeature(theta_rad) -
           c4_mm * IntensityFeature(ab)) /
          (1.0 + c2);
 }

@@ -108,6 +108,9 @@ struct DepthErrorModel {
   /// Eq. (4): true range from a measured one, d = (d'_m - C1 - C3 g - C4 h) / (1 + C2), where d'_m
   /// is d_m with the cyclic error removed.
   double CorrectRangeMm(double measured_range_mm, double theta_rad, double ab = 0.0) const;
+  /// The same from d'_m = cyclic.RemoveMm(d_m) computed beforehand (the identification keeps it
+  /// while only the coefficients change): exactly CorrectRangeMm's figure.
+  double CorrectDecycledRangeMm(double decycled_range_mm, double theta_rad, double ab = 0.0) const;
   /// Model name for reports: "linear-theta", "linear-theta2", "linear-1-cos", plus "+ab"; without
   /// the range term "intensity-theta" (and so on) with the AB term, "offset-theta" without.
   std::string Name() const;

@@ -111,9 +111,20 @@ struct Evaluation {
   std::vector<FrameResidual> report;
 };
 
+// What one minimisation's evaluations keep for the next (each figure is exactly that without it):
+// the joint ICP's nearest-neighbour answers and, per frame and marker, the neighbours' ranges
+// with the cyclic error removed.
+struct EvaluationCaches {
+  IcpNeighbourCache icp;
+  std::vector<std::vector<DecycledRanges>> patches;  // [frame][marker]
+  explicit EvaluationCaches(std::span<const IdentificationFrame> frames) {
+    for (const IdentificationFrame& f : frames) patches.emplace_back(f.markers.size());
+  }
+};
+
 Evaluation Evaluate(std::span<const IdentificationFrame> frames, const CorrectnessTarget* target,
                     const CorrectnessPlan& plan, const DepthErrorModel& model,
-                    const IdentificationOptions& options) {
+                    const IdentificationOptions& options, EvaluationCaches* caches = nullptr) {
   Evaluation e;
   e.smooth.resize(frames.size());
   e.correct.resize(plan.frames.size());
@@ -126,8 +137,10 @@ Evaluation Evaluate(std::span<const IdentificationFrame> frames, const Correctne
     rep.frame = frame.index;
     const double k = static_cast<double>(frame.markers.size());
     double sum_sq = 0.0;
-    for (const MarkerPatch& patch : frame.markers) {
-      std::vector<double> d = SmoothnessDistances(patch, model);
+    for (std::size_t p = 0; p < frame.markers.size(); ++p) {
+      const MarkerPatch& patch = frame.markers[p];
+      std::vector<double> d =
+          SmoothnessDistances(patch, model, caches != nullptr ? &caches->patches[f][p] : nullptr);
       for (double& x : d) x -= options.marker_thickness_mm;
       const double n = static_cast<double>(patch.marker_points.size());
       for (std::size_t i = 0; i < patch.marker_points.size(); ++i) {
@@ -143,9 +156,9 @@ Evaluation Evaluate(std::span<const IdentificationFrame> frames, const Correctne
   });
   const double thickness = options.marker_thickness_mm;
   if (plan.image_from_tool) {
-    const JointCorrectness joint =
-        JointCorrectnessDistances(frames, plan.frames, model, *target->skin_in_image,
-                                  *plan.image_from_tool, options.correctness);
+    const JointCorrectness joint = JointCorrectnessDistances(
+        frames, plan.frames, model, *target->skin_in_image, *plan.image_from_tool,
+        options.correctness, caches != nullptr ? &caches->icp : nullptr);
     for (std::size_t c = 0; c < plan.frames.size(); ++c) {
       const auto f = static_cast<std::size_t>(plan.frames[c]);
       if (!joint.marker_distances[c].empty()) {
@@ -272,16 +285,17 @@ Fit FitOnce(std::span<const IdentificationFrame> frames, const CorrectnessTarget
     }
     return m;
   };
+  EvaluationCaches caches(frames);  // the evaluations run one after another
   auto residuals = [&](const Eigen::VectorXd& x) {
     DepthErrorModel m = model_of(x);
     if (!(m.c2 > -0.5)) m.c2 = -0.5;  // keeps Eq. (4) finite while the optimiser explores
-    return Flatten(Evaluate(frames, target, plan, m, options));
+    return Flatten(Evaluate(frames, target, plan, m, options, &caches));
   };
   Fit fit;
   fit.lm = MinimiseLeastSquares(residuals, x0, steps, options.lm);
   fit.model = model_of(fit.lm.parameters);
   fit.model.report = {};
-  fit.final_eval = Evaluate(frames, target, plan, fit.model, options);
+  fit.final_eval = Evaluate(frames, target, plan, fit.model, options, &caches);
   fit.correctness = !plan.frames.empty();
   fit.joint = plan.image_from_tool.has_value();
   return fit;

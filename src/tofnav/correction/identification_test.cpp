@@ -26,6 +26,30 @@ TEST(SmoothnessDistances, ZeroForTheTrueModelAndOffsetForNone) {
   }
 }
 
+// The identification keeps each patch's decycled ranges while only the coefficients change: the
+// distances must be bit for bit those computed afresh, whether the cyclic error is kept, changed
+// or switched off between calls.
+TEST(SmoothnessDistances, DecycledRangesChangeNoFigure) {
+  DepthErrorModel model = TrueModel();
+  model.cyclic = {1.2, 1055.0 / 3.0, 0.4};
+  const std::vector<IdentificationFrame> frames = SphereFrames(model);
+  const MarkerPatch& patch = frames[1].markers.front();
+  DecycledRanges kept;
+  const auto check = [&](const DepthErrorModel& m) {
+    EXPECT_EQ(SmoothnessDistances(patch, m, &kept), SmoothnessDistances(patch, m));
+  };
+  check(model);
+  model.c1_mm += 0.3;  // the cyclic error as before: the kept ranges serve
+  check(model);
+  model.c3_mm -= 0.2;
+  check(model);
+  model.cyclic.phase_rad += 1e-9;  // any change of it recomputes them
+  check(model);
+  EXPECT_EQ(kept.key.phase_rad, model.cyclic.phase_rad);
+  model.cyclic = {};  // off: nothing kept is used
+  check(model);
+}
+
 TEST(IdentifyDepthModel, SmoothnessOnlyRecoversKnownCoefficients) {
   constexpr double kRelTol = 0.02;  // noise-free: limited by the cubic patch fit
   const std::vector<IdentificationFrame> frames = SphereFrames(TrueModel());

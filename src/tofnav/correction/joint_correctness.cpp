@@ -26,26 +26,32 @@ JointCorrectness JointCorrectnessDistances(std::span<const IdentificationFrame> 
                                            const DepthErrorModel& model,
                                            const SurfaceIndex& skin_in_image,
                                            const Rigid3d& image_from_tool_guess,
-                                           const CorrectnessOptions& options) {
+                                           const CorrectnessOptions& options,
+                                           IcpNeighbourCache* icp_cache) {
   JointCorrectness out;
   out.image_from_tool = image_from_tool_guess;
-  Points3d head_in_tool;
   std::vector<std::size_t> first_head;  // per frame: its first sample in head_in_tool
+  std::size_t head_count = 0;
   for (const int f : frame_indices) {
-    const IdentificationFrame& frame = frames[static_cast<std::size_t>(f)];
-    const Rigid3d& tool_from_ahat = ToolFromAhat(frame);
-    first_head.push_back(head_in_tool.size());
-    for (const SurfaceSample& s : frame.head) {
-      head_in_tool.push_back(tool_from_ahat * CorrectedPoint(s, model));
-    }
+    first_head.push_back(head_count);
+    head_count += frames[static_cast<std::size_t>(f)].head.size();
   }
+  Points3d head_in_tool(head_count);
+  ParallelFor(0, std::ssize(frame_indices), [&](std::int64_t ci) {
+    const auto c = static_cast<std::size_t>(ci);
+    const IdentificationFrame& frame = frames[static_cast<std::size_t>(frame_indices[c])];
+    const Rigid3d& tool_from_ahat = ToolFromAhat(frame);
+    for (std::size_t i = 0; i < frame.head.size(); ++i) {
+      head_in_tool[first_head[c] + i] = tool_from_ahat * CorrectedPoint(frame.head[i], model);
+    }
+  });
   if (static_cast<int>(head_in_tool.size()) >= options.icp.min_correspondences) {
     // Frames disagree a little (tracking noise), so the steps settle above the per-frame
     // tolerances: an ICP stopped by its iteration limit is still taken if it kept its matches.
     IcpOptions icp_options = options.icp;
     icp_options.max_iterations_per_level = std::max(icp_options.max_iterations_per_level, 60);
-    const IcpResult icp =
-        AlignPointToPlane(head_in_tool, {}, skin_in_image, image_from_tool_guess, icp_options);
+    const IcpResult icp = AlignPointToPlane(head_in_tool, {}, skin_in_image, image_from_tool_guess,
+                                            icp_options, icp_cache);
     out.converged = icp.converged;
     if (icp.correspondences >= options.icp.min_correspondences) {
       out.image_from_tool = icp.target_from_source;
@@ -62,9 +68,14 @@ JointCorrectness JointCorrectnessDistances(std::span<const IdentificationFrame> 
           SkinSignedDistance(skin_in_image, image_from_ahat * m, options.max_distance_mm));
     }
     for (std::size_t i = 0; i < frame.head.size(); ++i) {
+      // The ICP's last answers were taken at its final pose: most still hold exactly.
+      const std::size_t k = first_head[c] + i;
+      const Eigen::Vector3d p = out.image_from_tool * head_in_tool[k];
+      const std::optional<std::uint32_t> known =
+          icp_cache != nullptr ? icp_cache->KnownNearest(k, p) : std::nullopt;
       out.head_distances[c].push_back(
-          SkinSignedDistance(skin_in_image, out.image_from_tool * head_in_tool[first_head[c] + i],
-                             options.max_distance_mm));
+          known ? SkinSignedDistanceTo(skin_in_image, *known, p, options.max_distance_mm)
+                : SkinSignedDistance(skin_in_image, p, options.max_distance_mm));
     }
   });
   return out;

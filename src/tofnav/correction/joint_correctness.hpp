@@ -11,6 +11,7 @@
 #include "tofnav/correction/depth_error_model.hpp"
 #include "tofnav/correction/identification_frame.hpp"
 #include "tofnav/correction/surface_costs.hpp"
+#include "tofnav/registration/icp.hpp"
 #include "tofnav/registration/surface_index.hpp"
 
 namespace tofnav {
@@ -30,13 +31,16 @@ struct JointCorrectness {
 /// registered to the skin together by one point-to-plane ICP from `image_from_tool_guess`: a
 /// per-frame ICP can absorb a constant depth offset into each frame's own translation, one rigid
 /// placement for views from different directions cannot. The same transform places the marker
-/// points. This is the frame in which `reconstruct` fuses the head.
+/// points. This is the frame in which `reconstruct` fuses the head. `icp_cache` carries the
+/// ICP's nearest-neighbour answers from one call to the next on the same frames and skin (an
+/// identification's evaluations): the figures are exactly those without it, only faster.
 JointCorrectness JointCorrectnessDistances(std::span<const IdentificationFrame> frames,
                                            std::span<const int> frame_indices,
                                            const DepthErrorModel& model,
                                            const SurfaceIndex& skin_in_image,
                                            const Rigid3d& image_from_tool_guess,
-                                           const CorrectnessOptions& options = {});
+                                           const CorrectnessOptions& options = {},
+                                           IcpNeighbourCache* icp_cache = nullptr);
 
 /// The rotation-averaged (chordal, by quaternions) and translation-averaged image_from_tool of
 /// per-frame placements image_from_ahat_j * inverse(tool_from_ahat_j) (frames with a tool pose

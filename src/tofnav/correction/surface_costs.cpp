@@ -24,13 +24,42 @@ Eigen::Vector3d ToLocal(const MarkerPatch& patch, const Eigen::Vector3d& point_i
   return local;
 }
 
-std::optional<CubicBasis> FitPatchCubic(const MarkerPatch& patch, const DepthErrorModel& model) {
+bool SameCyclic(const CyclicRangeError& a, const CyclicRangeError& b) {
+  return a.amplitude_mm == b.amplitude_mm && a.period_mm == b.period_mm &&
+         a.phase_rad == b.phase_rad;
+}
+
+// The neighbours' decycled ranges for `model`, recomputed only when its cyclic error changed;
+// null when there is nothing to keep (no cache, or no cyclic error).
+const std::vector<double>* Decycled(const MarkerPatch& patch, const DepthErrorModel& model,
+                                    DecycledRanges* cache) {
+  if (cache == nullptr || !model.cyclic.enabled()) return nullptr;
+  if (!cache->valid || !SameCyclic(cache->key, model.cyclic) ||
+      cache->range_mm.size() != patch.neighbours.size()) {
+    cache->range_mm.resize(patch.neighbours.size());
+    for (std::size_t i = 0; i < patch.neighbours.size(); ++i) {
+      cache->range_mm[i] = model.cyclic.RemoveMm(patch.neighbours[i].range_mm);
+    }
+    cache->key = model.cyclic;
+    cache->valid = true;
+  }
+  return &cache->range_mm;
+}
+
+std::optional<CubicBasis> FitPatchCubic(const MarkerPatch& patch, const DepthErrorModel& model,
+                                        DecycledRanges* cache = nullptr) {
   if (patch.neighbours.size() < 20) return std::nullopt;
+  const std::vector<double>* decycled = Decycled(patch, model, cache);
   // Normal equations by hand (plain arrays: this is the identification's inner loop).
   std::array<double, 100> ata{};
   BasisArray atb{};
-  for (const SurfaceSample& s : patch.neighbours) {
-    const Eigen::Vector3d p = ToLocal(patch, CorrectedPoint(s, model));
+  for (std::size_t k = 0; k < patch.neighbours.size(); ++k) {
+    const SurfaceSample& s = patch.neighbours[k];
+    const Eigen::Vector3d p = ToLocal(
+        patch, decycled != nullptr ? Eigen::Vector3d(s.ray.cast<double>() *
+                                                     model.CorrectDecycledRangeMm(
+                                                         (*decycled)[k], s.incidence_rad, s.ab))
+                                   : CorrectedPoint(s, model));
     const BasisArray b = Basis(p.x(), p.y());
     for (std::size_t i = 0; i < 10; ++i) {
       for (std::size_t j = 0; j <= i; ++j) ata[i * 10 + j] += b[i] * b[j];
@@ -61,10 +90,11 @@ Eigen::Vector3d CubicNormal(const MarkerPatch& patch, const CubicBasis& c, doubl
 
 }  // namespace
 
-std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErrorModel& model) {
+std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErrorModel& model,
+                                        DecycledRanges* decycled) {
   std::vector<double> out;
   if (patch.marker_points.empty()) return out;
-  const std::optional<CubicBasis> coefficients = FitPatchCubic(patch, model);
+  const std::optional<CubicBasis> coefficients = FitPatchCubic(patch, model, decycled);
   if (!coefficients) return out;
   out.reserve(patch.marker_points.size());
   for (const Eigen::Vector3d& m : patch.marker_points) {
@@ -108,6 +138,14 @@ double SkinSignedDistance(const SurfaceIndex& skin, const Eigen::Vector3d& point
   const std::optional<Neighbour> nn = skin.Nearest(point_in_image, max_mm);
   if (!nn) return max_mm;
   return skin.normals()[nn->index].dot(point_in_image - skin.points()[nn->index]);
+}
+
+double SkinSignedDistanceTo(const SurfaceIndex& skin, std::uint32_t nearest,
+                            const Eigen::Vector3d& point_in_image, double max_mm) {
+  // As SurfaceIndex::Nearest bounds its search: the nearest counts only strictly inside max_mm.
+  const Eigen::Vector3d d = point_in_image - skin.points()[nearest];
+  if (!(d.x() * d.x() + d.y() * d.y() + d.z() * d.z() < max_mm * max_mm)) return max_mm;
+  return skin.normals()[nearest].dot(d);
 }
 
 CorrectnessFrame CorrectnessDistances(const IdentificationFrame& frame,

@@ -13,11 +13,23 @@
 
 namespace tofnav {
 
+/// A patch's neighbour ranges with the cyclic error removed, for the cyclic error `key`: an
+/// identification's cost evaluations change the coefficients far more often than the cyclic
+/// error (its numerical derivatives by C1, C3, C4), and the removal (three sines per sample) was
+/// the largest share of its first stage.
+struct DecycledRanges {
+  CyclicRangeError key;
+  bool valid = false;
+  std::vector<double> range_mm;  // per neighbour
+};
+
 /// Eq. (6) terms of one marker: the head points around it corrected with Eq. (4), a cubic
 /// polynomial surface z = f(x, y) fitted to them by least squares in the patch's local frame,
 /// and the signed distance (along the local z) of each marker point to it [mm]. Empty when the
-/// patch has too few neighbours or the fit is singular.
-std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErrorModel& model);
+/// patch has too few neighbours or the fit is singular. `decycled`, when given, keeps the
+/// neighbours' decycled ranges between calls on this patch (the same figures, faster).
+std::vector<double> SmoothnessDistances(const MarkerPatch& patch, const DepthErrorModel& model,
+                                        DecycledRanges* decycled = nullptr);
 
 /// Replaces each neighbour's incidence angle by that of the cubic surface (as in
 /// SmoothnessDistances) fitted to the neighbours corrected with `model`: per-pixel normals of a
@@ -56,6 +68,9 @@ struct CorrectnessFrame {
 /// or `max_mm` when no sample lies within `max_mm` (keeps the residual count fixed) [mm].
 double SkinSignedDistance(const SurfaceIndex& skin, const Eigen::Vector3d& point_in_image,
                           double max_mm);
+/// The same when the nearest skin sample is already known (exactly the same figure).
+double SkinSignedDistanceTo(const SurfaceIndex& skin, std::uint32_t nearest,
+                            const Eigen::Vector3d& point_in_image, double max_mm);
 
 /// Corrects the frame's head samples with `model` (Eq. 4), registers them to the skin by the
 /// registration module's point-to-plane ICP from `image_from_ahat_guess`, and measures each

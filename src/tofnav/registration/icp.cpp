@@ -45,6 +45,11 @@ struct Match {
 
 std::size_t ChunkCount(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
+bool Reusable(const Match& m, const Eigen::Vector3d& point_in_target) {
+  const double moved_mm = (point_in_target - m.queried_at).norm();
+  return 2.0 * moved_mm < m.others_from_mm - m.nearest_mm;
+}
+
 /// Calls body(first, last) per chunk in parallel and adds the per-chunk sums in chunk order, so
 /// the floating-point result does not depend on the thread count.
 template <typename Body>
@@ -83,8 +88,7 @@ void Associate(const Points3d& points, const Points3d& normals, const SurfaceInd
                            r[1][0] * p[0] + r[1][1] * p[1] + r[1][2] * p[2] + t[1],
                            r[2][0] * p[0] + r[2][1] * p[1] + r[2][2] * p[2] + t[2]};
       m.valid = false;
-      const double moved_mm = (m.point_in_target - m.queried_at).norm();
-      if (!(2.0 * moved_mm < m.others_from_mm - m.nearest_mm)) {
+      if (!Reusable(m, m.point_in_target)) {
         const SurfaceIndex::NearestPair pair =
             target.NearestTwo(m.point_in_target, max_distance_mm);
         m.queried_at = m.point_in_target;
@@ -200,6 +204,25 @@ void FinalStatistics(const std::vector<Match>& matches, std::size_t source_count
 
 }  // namespace
 
+struct IcpNeighbourCache::Impl {
+  const Eigen::Vector3d* target_points = nullptr;  // the target the answers belong to
+  std::size_t target_size = 0;
+  std::vector<Match> matches;  // the caller's order
+};
+
+IcpNeighbourCache::IcpNeighbourCache() : impl_(std::make_unique<Impl>()) {}
+IcpNeighbourCache::~IcpNeighbourCache() = default;
+IcpNeighbourCache::IcpNeighbourCache(IcpNeighbourCache&&) noexcept = default;
+IcpNeighbourCache& IcpNeighbourCache::operator=(IcpNeighbourCache&&) noexcept = default;
+
+std::optional<std::uint32_t> IcpNeighbourCache::KnownNearest(
+    std::size_t index, const Eigen::Vector3d& point_in_target) const {
+  if (!impl_ || index >= impl_->matches.size()) return std::nullopt;
+  const Match& m = impl_->matches[index];
+  if (!m.nearest || !Reusable(m, point_in_target)) return std::nullopt;
+  return m.nearest;
+}
+
 void IcpOptions::Check() const {
   Require(!max_distance_schedule_mm.empty(), "IcpOptions.max_distance_schedule_mm is empty");
   for (const double gate : max_distance_schedule_mm) {
@@ -217,7 +240,7 @@ void IcpOptions::Check() const {
 
 IcpResult AlignPointToPlane(const Points3d& source_points, const Points3d& source_normals,
                             const SurfaceIndex& target, const Rigid3d& target_from_source_guess,
-                            const IcpOptions& options) {
+                            const IcpOptions& options, IcpNeighbourCache* cache) {
   options.Check();
   Require(source_normals.empty() || source_normals.size() == source_points.size(),
           "AlignPointToPlane: one source normal per point, or none");
@@ -233,6 +256,12 @@ IcpResult AlignPointToPlane(const Points3d& source_points, const Points3d& sourc
   const Points3d normals = source_normals.empty() ? Points3d{} : Gather(source_normals, order);
 
   std::vector<Match> matches;
+  IcpNeighbourCache::Impl* kept = cache != nullptr ? &cache->impl() : nullptr;
+  if (kept != nullptr && kept->target_points == target.points().data() &&
+      kept->target_size == target.points().size() && kept->matches.size() == source_points.size()) {
+    matches.resize(order.size());  // each answer is checked before it is reused
+    for (std::size_t i = 0; i < order.size(); ++i) matches[i] = kept->matches[order[i]];
+  }
   bool level_converged = false;
   bool enough = true;
   const auto levels = static_cast<int>(options.max_distance_schedule_mm.size());
@@ -290,6 +319,12 @@ IcpResult AlignPointToPlane(const Points3d& source_points, const Points3d& sourc
             std::max(options.max_distance_schedule_mm.back(), target.spacing_mm()), min_cos,
             matches);
   FinalStatistics(matches, source_points.size(), options, result);
+  if (kept != nullptr) {
+    kept->target_points = target.points().data();
+    kept->target_size = target.points().size();
+    kept->matches.resize(matches.size());
+    for (std::size_t i = 0; i < matches.size(); ++i) kept->matches[order[i]] = matches[i];
+  }
   for (std::uint32_t& i : result.inlier_indices) i = order[i];  // back to the caller's indices
   std::sort(result.inlier_indices.begin(), result.inlier_indices.end());
   result.converged =

@@ -4,6 +4,8 @@
 
 #include <Eigen/Core>
 #include <cstdint>
+#include <memory>
+#include <optional>
 #include <vector>
 
 #include "tofnav/core/point_cloud.hpp"
@@ -67,12 +69,40 @@ struct IcpResult {
   std::vector<IcpIterationStats> history;
 };
 
+/// The nearest-neighbour answers of one ICP's source points, kept for the next ICP on the same
+/// target with as many source points (which may have moved: an identification's cost evaluations
+/// align the same samples under slightly different depth models). An answer is reused only while
+/// it provably cannot change: the point moved less than half the gap between its nearest target
+/// point and every other one, so every result is exactly that without the cache
+/// (docs/registration.md 5). One cache per sequence of calls: not for concurrent use.
+class IcpNeighbourCache {
+ public:
+  IcpNeighbourCache();
+  ~IcpNeighbourCache();
+  IcpNeighbourCache(IcpNeighbourCache&&) noexcept;
+  IcpNeighbourCache& operator=(IcpNeighbourCache&&) noexcept;
+  IcpNeighbourCache(const IcpNeighbourCache&) = delete;
+  IcpNeighbourCache& operator=(const IcpNeighbourCache&) = delete;
+
+  /// The nearest target point of the last call's source point `index` (the caller's order) when
+  /// it lies at `point_in_target`, if the cached answer provably still holds; nothing otherwise.
+  std::optional<std::uint32_t> KnownNearest(std::size_t index,
+                                            const Eigen::Vector3d& point_in_target) const;
+
+  struct Impl;  // defined in icp.cpp: opaque elsewhere
+  Impl& impl() { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Point-to-plane ICP (Chen & Medioni 1992) with a coarse-to-fine distance gate, a normal-angle
 /// gate and an IRLS robust loss; Gauss-Newton on se(3) with 6x6 normal equations. Parallel, with
 /// per-chunk sums added in a fixed order, so the result is the same for any thread count.
 /// @param source_normals  unit normals of the source points (same frame), or empty
+/// @param cache  nearest-neighbour answers from the previous call on this target, or null
 IcpResult AlignPointToPlane(const Points3d& source_points, const Points3d& source_normals,
                             const SurfaceIndex& target, const Rigid3d& target_from_source_guess,
-                            const IcpOptions& options = {});
+                            const IcpOptions& options = {}, IcpNeighbourCache* cache = nullptr);
 
 }  // namespace tofnav

@@ -61,6 +61,42 @@ TEST(AlignPointToPlane, SameResultForAnyThreadCount) {
   EXPECT_EQ(serial.information, parallel.information);
 }
 
+// The cache carries answers from one call to the next (an identification's evaluations move the
+// same samples a little): every figure must be bit for bit that of a call without it, and its
+// known nearest points must be the KD-tree's.
+TEST(AlignPointToPlane, NeighbourCacheChangesNoFigure) {
+  const FaceScene scene;
+  std::mt19937_64 rng(5);
+  PointCloud cloud = test::FrontalSamples(scene.skin, 3000, 0.3, rng);
+  IcpNeighbourCache cache;
+  std::normal_distribution<double> nudge(0.0, 0.05);  // mm: as a depth model's small change
+  int known = 0;
+  for (int call = 0; call < 4; ++call) {
+    const IcpResult plain =
+        AlignPointToPlane(cloud.points, cloud.normals, scene.skin_in_image, scene.guess);
+    const IcpResult cached = AlignPointToPlane(cloud.points, cloud.normals, scene.skin_in_image,
+                                               scene.guess, IcpOptions(), &cache);
+    EXPECT_EQ(cached.iterations, plain.iterations) << call;
+    EXPECT_EQ(cached.target_from_source.translation, plain.target_from_source.translation);
+    EXPECT_EQ(cached.target_from_source.rotation.coeffs(),
+              plain.target_from_source.rotation.coeffs());
+    EXPECT_EQ(cached.inlier_indices, plain.inlier_indices);
+    EXPECT_EQ(cached.information, plain.information);
+    for (std::size_t i = 0; i < cloud.points.size(); ++i) {
+      const Eigen::Vector3d p = cached.target_from_source * cloud.points[i];
+      const std::optional<std::uint32_t> nearest = cache.KnownNearest(i, p);
+      if (!nearest) continue;
+      const std::optional<Neighbour> truth = scene.skin_in_image.Nearest(p, 1e3);
+      ASSERT_TRUE(truth.has_value());
+      EXPECT_EQ(*nearest, truth->index) << call << " " << i;
+      ++known;
+    }
+    for (Eigen::Vector3d& p : cloud.points)
+      p += Eigen::Vector3d(nudge(rng), nudge(rng), nudge(rng));
+  }
+  EXPECT_GT(known, 4000);  // the final pose's answers mostly still hold
+}
+
 TEST(AlignPointToPlane, RobustLossIgnoresOneSidedOutliers) {
   const FaceScene scene;
   PointCloud face = scene.face_in_image;
