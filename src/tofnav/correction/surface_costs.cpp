@@ -24,6 +24,12 @@ Eigen::Vector3d ToLocal(const MarkerPatch& patch, const Eigen::Vector3d& point_i
   return local;
 }
 
+// Signed distance of a point along its nearest skin sample's normal (outside > 0) [mm].
+double SignedDistanceTo(const SurfaceIndex& skin, std::uint32_t nearest,
+                        const Eigen::Vector3d& point_in_image) {
+  return skin.normals()[nearest].dot(point_in_image - skin.points()[nearest]);
+}
+
 bool SameCyclic(const CyclicRangeError& a, const CyclicRangeError& b) {
   return a.amplitude_mm == b.amplitude_mm && a.period_mm == b.period_mm &&
          a.phase_rad == b.phase_rad;
@@ -34,14 +40,12 @@ bool SameCyclic(const CyclicRangeError& a, const CyclicRangeError& b) {
 const std::vector<double>* Decycled(const MarkerPatch& patch, const DepthErrorModel& model,
                                     DecycledRanges* cache) {
   if (cache == nullptr || !model.cyclic.enabled()) return nullptr;
-  if (!cache->valid || !SameCyclic(cache->key, model.cyclic) ||
-      cache->range_mm.size() != patch.neighbours.size()) {
+  if (!SameCyclic(cache->key, model.cyclic) || cache->range_mm.size() != patch.neighbours.size()) {
     cache->range_mm.resize(patch.neighbours.size());
     for (std::size_t i = 0; i < patch.neighbours.size(); ++i) {
       cache->range_mm[i] = model.cyclic.RemoveMm(patch.neighbours[i].range_mm);
     }
     cache->key = model.cyclic;
-    cache->valid = true;
   }
   return &cache->range_mm;
 }
@@ -55,11 +59,10 @@ std::optional<CubicBasis> FitPatchCubic(const MarkerPatch& patch, const DepthErr
   BasisArray atb{};
   for (std::size_t k = 0; k < patch.neighbours.size(); ++k) {
     const SurfaceSample& s = patch.neighbours[k];
-    const Eigen::Vector3d p = ToLocal(
-        patch, decycled != nullptr ? Eigen::Vector3d(s.ray.cast<double>() *
-                                                     model.CorrectDecycledRangeMm(
-                                                         (*decycled)[k], s.incidence_rad, s.ab))
-                                   : CorrectedPoint(s, model));
+    const double range_mm =
+        decycled != nullptr ? model.CorrectDecycledRangeMm((*decycled)[k], s.incidence_rad, s.ab)
+                            : model.CorrectRangeMm(s.range_mm, s.incidence_rad, s.ab);
+    const Eigen::Vector3d p = ToLocal(patch, s.ray.cast<double>() * range_mm);  // CorrectedPoint
     const BasisArray b = Basis(p.x(), p.y());
     for (std::size_t i = 0; i < 10; ++i) {
       for (std::size_t j = 0; j <= i; ++j) ata[i * 10 + j] += b[i] * b[j];
@@ -137,7 +140,7 @@ double SkinSignedDistance(const SurfaceIndex& skin, const Eigen::Vector3d& point
                           double max_mm) {
   const std::optional<Neighbour> nn = skin.Nearest(point_in_image, max_mm);
   if (!nn) return max_mm;
-  return skin.normals()[nn->index].dot(point_in_image - skin.points()[nn->index]);
+  return SignedDistanceTo(skin, nn->index, point_in_image);
 }
 
 double SkinSignedDistanceTo(const SurfaceIndex& skin, std::uint32_t nearest,
@@ -145,7 +148,7 @@ double SkinSignedDistanceTo(const SurfaceIndex& skin, std::uint32_t nearest,
   // As SurfaceIndex::Nearest bounds its search: the nearest counts only strictly inside max_mm.
   const Eigen::Vector3d d = point_in_image - skin.points()[nearest];
   if (!(d.x() * d.x() + d.y() * d.y() + d.z() * d.z() < max_mm * max_mm)) return max_mm;
-  return skin.normals()[nearest].dot(d);
+  return SignedDistanceTo(skin, nearest, point_in_image);
 }
 
 CorrectnessFrame CorrectnessDistances(const IdentificationFrame& frame,

@@ -16,10 +16,10 @@ namespace tofnav {
 /// A patch's neighbour ranges with the cyclic error removed, for the cyclic error `key`: an
 /// identification's cost evaluations change the coefficients far more often than the cyclic
 /// error (its numerical derivatives by C1, C3, C4), and the removal (three sines per sample) was
-/// the largest share of its first stage.
+/// the largest share of its first stage. The default key (no cyclic error) matches no model that
+/// has one, so an empty cache is filled on first use.
 struct DecycledRanges {
   CyclicRangeError key;
-  bool valid = false;
   std::vector<double> range_mm;  // per neighbour
 };
 
