@@ -196,58 +196,6 @@ Eigen::VectorXd Flatten(const Evaluation& e) {
   return r;
 }
 
-// The frames without the marker patches whose median Eq. (6) distance under `model` lies far from
-// every other patch's: markers that are not on the skin (a tool's marker on its plate, whose
-// unbiased surroundings the skin model over-corrects by the whole skin bias; a sticker on hair).
-// A bounded (Huber) loss still pulls a little on each of them, always the same way.
-// `rejected[f][k]` says whether patch k of frame f was left out.
-std::vector<IdentificationFrame> WithoutOutlierMarkers(std::span<const IdentificationFrame> frames,
-                                                       const DepthErrorModel& model,
-                                                       const IdentificationOptions& options,
-                                                       std::vector<std::vector<char>>& rejected) {
-  std::vector<std::vector<double>> per_frame(frames.size());
-  ParallelFor(0, static_cast<std::int64_t>(frames.size()), [&](std::int64_t fi) {
-    const auto f = static_cast<std::size_t>(fi);
-    for (const MarkerPatch& patch : frames[f].markers) {
-      std::vector<double> d = SmoothnessDistances(patch, model);
-      double m = INFINITY;  // a singular fit: always an outlier
-      if (!d.empty()) m = MedianSpread(std::move(d)).first - options.marker_thickness_mm;
-      per_frame[f].push_back(m);
-    }
-  });
-  std::vector<double> all;
-  for (const auto& v : per_frame) {
-    for (double m : v) {
-      if (std::isfinite(m)) all.push_back(m);
-    }
-  }
-  rejected.assign(frames.size(), {});
-  for (std::size_t f = 0; f < frames.size(); ++f) rejected[f].assign(frames[f].markers.size(), 0);
-  std::vector<IdentificationFrame> out(frames.begin(), frames.end());
-  if (all.empty()) return out;
-  const auto [centre, spread] = MedianSpread(all);
-  const double limit =
-      std::max(options.marker_outlier_spreads * spread, options.min_marker_outlier_mm);
-  for (std::size_t f = 0; f < out.size(); ++f) {
-    std::vector<MarkerPatch> kept;
-    Points3d& points = out[f].marker_points;  // Err_C's: drop the rejected markers' too
-    for (std::size_t k = 0; k < out[f].markers.size(); ++k) {
-      MarkerPatch& patch = out[f].markers[k];
-      if (std::abs(per_frame[f][k] - centre) <= limit) {
-        kept.push_back(std::move(patch));
-        continue;
-      }
-      rejected[f][k] = 1;
-      std::erase_if(points, [&](const Eigen::Vector3d& p) {
-        return std::find(patch.marker_points.begin(), patch.marker_points.end(), p) !=
-               patch.marker_points.end();
-      });
-    }
-    out[f].markers = std::move(kept);
-  }
-  return out;
-}
-
 struct Fit {
   DepthErrorModel model;  // coefficients only (no report)
   LevenbergMarquardtResult lm;
@@ -365,7 +313,10 @@ DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
   std::vector<std::vector<char>> rejected_flags;
   if (options.reject_outlier_markers) {
     const std::vector<IdentificationFrame> kept =
-        WithoutOutlierMarkers(screened, fit.model, options, rejected_flags);
+        WithoutOutlierMarkers(screened, fit.model,
+                              {options.marker_thickness_mm, options.marker_outlier_spreads,
+                               options.min_marker_outlier_mm},
+                              rejected_flags);
     for (const auto& v : rejected_flags)
       rejected += static_cast<int>(std::count(v.begin(), v.end(), 1));
     if (rejected > 0 && rejected < patches) {

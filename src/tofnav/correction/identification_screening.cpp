@@ -11,6 +11,7 @@
 #include <unordered_map>
 
 #include "tofnav/core/parallel_for.hpp"
+#include "tofnav/correction/surface_costs.hpp"
 
 namespace tofnav {
 namespace {
@@ -219,6 +220,52 @@ std::vector<std::vector<int>> GroupMarkerObservations(std::span<const Identifica
     markers[m].centre_mm = {mean.x(), mean.y(), mean.z()};
   }
   return ids;
+}
+
+std::vector<IdentificationFrame> WithoutOutlierMarkers(std::span<const IdentificationFrame> frames,
+                                                       const DepthErrorModel& model,
+                                                       const MarkerOutlierLimits& limits,
+                                                       std::vector<std::vector<char>>& rejected) {
+  std::vector<std::vector<double>> per_frame(frames.size());
+  ParallelFor(0, static_cast<std::int64_t>(frames.size()), [&](std::int64_t fi) {
+    const auto f = static_cast<std::size_t>(fi);
+    for (const MarkerPatch& patch : frames[f].markers) {
+      std::vector<double> d = SmoothnessDistances(patch, model);
+      double m = INFINITY;  // a singular fit: always an outlier
+      if (!d.empty()) m = MedianSpread(std::move(d)).first - limits.thickness_mm;
+      per_frame[f].push_back(m);
+    }
+  });
+  std::vector<double> all;
+  for (const auto& v : per_frame) {
+    for (double m : v) {
+      if (std::isfinite(m)) all.push_back(m);
+    }
+  }
+  rejected.assign(frames.size(), {});
+  for (std::size_t f = 0; f < frames.size(); ++f) rejected[f].assign(frames[f].markers.size(), 0);
+  std::vector<IdentificationFrame> out(frames.begin(), frames.end());
+  if (all.empty()) return out;
+  const auto [centre, spread] = MedianSpread(all);
+  const double limit = std::max(limits.spreads * spread, limits.min_mm);
+  for (std::size_t f = 0; f < out.size(); ++f) {
+    std::vector<MarkerPatch> kept;
+    Points3d& points = out[f].marker_points;  // Err_C's: drop the rejected markers' too
+    for (std::size_t k = 0; k < out[f].markers.size(); ++k) {
+      MarkerPatch& patch = out[f].markers[k];
+      if (std::abs(per_frame[f][k] - centre) <= limit) {
+        kept.push_back(std::move(patch));
+        continue;
+      }
+      rejected[f][k] = 1;
+      std::erase_if(points, [&](const Eigen::Vector3d& p) {
+        return std::find(patch.marker_points.begin(), patch.marker_points.end(), p) !=
+               patch.marker_points.end();
+      });
+    }
+    out[f].markers = std::move(kept);
+  }
+  return out;
 }
 
 }  // namespace tofnav

@@ -58,4 +58,22 @@ std::vector<std::vector<int>> GroupMarkerObservations(std::span<const Identifica
                                                       double radius_mm,
                                                       std::vector<StickerUse>& markers);
 
+/// How far a marker patch's median Eq. (6) distance may lie from the other patches' before the
+/// patch is left out: beyond max(spreads x 1.4826 MAD, min_mm), after the sticker's thickness.
+struct MarkerOutlierLimits {
+  double thickness_mm = 0.0;
+  double spreads = 3.0;
+  double min_mm = 2.0;
+};
+
+/// The frames without the marker patches whose median Eq. (6) distance under `model` lies far
+/// from every other patch's: markers that are not on the skin (a tool's marker on its plate, whose
+/// unbiased surroundings the skin model over-corrects by the whole skin bias; a sticker on hair).
+/// A bounded (Huber) loss still pulls a little on each of them, always the same way.
+/// `rejected[f][k]` says whether patch k of frame f was left out.
+std::vector<IdentificationFrame> WithoutOutlierMarkers(std::span<const IdentificationFrame> frames,
+                                                       const DepthErrorModel& model,
+                                                       const MarkerOutlierLimits& limits,
+                                                       std::vector<std::vector<char>>& rejected);
+
 }  // namespace tofnav
