@@ -8,6 +8,8 @@
 #include "correction_test_scenes.hpp"
 #include "tofnav/correction/identification.hpp"
 #include "tofnav/correction/initial_pose.hpp"
+#include "tofnav/correction/multipath_correction.hpp"
+#include "tofnav/correction/range_normals.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 #include "tofnav/sim/simulator.hpp"
 
@@ -85,6 +87,27 @@ BENCHMARK(BM_IdentifyCliPath1000Frames)
     ->Iterations(1)
     ->Repetitions(3)
     ->UseRealTime();
+
+// One rendered frame's normals over the whole image (smoothing, differences, incidence angles).
+void BM_RangeNormalsFrame(benchmark::State& state) {
+  const RenderedRun& run = Rendered();
+  const Image<float> range = RangeAsFloat(run.frames[0].range_mm);
+  for (auto _ : state) benchmark::DoNotOptimize(ComputeRangeNormals(range, *run.camera));
+}
+BENCHMARK(BM_RangeNormalsFrame)->Unit(benchmark::kMillisecond)->Repetitions(5);
+
+// One rendered frame's multipath removal with the default options, every pixel wanted (three
+// passes: normals, block patches and the patches' exchange each pass).
+void BM_RemoveMultipathFrame(benchmark::State& state) {
+  const RenderedRun& run = Rendered();
+  const AhatFrame& frame = run.frames[0];
+  const Image<float> range = RangeAsFloat(frame.range_mm);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(
+        RemoveMultipath(range, frame.ab, *run.camera, MultipathCorrectionOptions{}));
+  }
+}
+BENCHMARK(BM_RemoveMultipathFrame)->Unit(benchmark::kMillisecond)->Repetitions(5);
 
 }  // namespace
 }  // namespace tofnav

@@ -189,9 +189,9 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
           if (needed(u / stride, v / stride) == 0) near(u, v) = 0.0f;
         }
       }
-      computed = ComputeRangeNormals(near, camera, normal_options).normal;
+      computed = ComputeRangeNormalVectors(near, camera, normal_options);
     } else {
-      computed = ComputeRangeNormals(geometry, camera, normal_options).normal;
+      computed = ComputeRangeNormalVectors(geometry, camera, normal_options);
     }
   }
   const Image<Eigen::Vector3f>& normal = hints.normal ? *hints.normal : computed;
@@ -252,8 +252,9 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
       const Complex q = (wt[0] * irradiance(i0, j0) + wt[1] * irradiance(i1, j0) +
                          wt[2] * irradiance(i0, j1) + wt[3] * irradiance(i1, j1)) /
                         w_sum * (d * d / cos_theta) * std::polar(1.0, -k * d);
-      if (hints.indirect_ratio) (*hints.indirect_ratio)(u, v) = static_cast<float>(std::abs(q));
-      if (std::abs(q) > options.max_indirect_ratio) {
+      const double ratio = std::abs(q);
+      if (hints.indirect_ratio) (*hints.indirect_ratio)(u, v) = static_cast<float>(ratio);
+      if (ratio > options.max_indirect_ratio) {
         ++dropped[static_cast<std::size_t>(v)];
         continue;
       }

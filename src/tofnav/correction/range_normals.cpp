@@ -15,28 +15,46 @@
 namespace tofnav {
 namespace {
 
-bool SameSurface(float a_mm, float b_mm, const RangeNormalOptions& options) {
-  const double tolerance = std::max(options.edge_abs_mm, options.edge_rel * a_mm);
-  return b_mm > 0.0f && std::abs(static_cast<double>(a_mm - b_mm)) <= tolerance;
+// Neighbours within max(edge_abs_mm, edge_rel * centre) of the centre's range lie on its surface.
+double EdgeTolerance(float centre_mm, const RangeNormalOptions& options) {
+  return std::max(options.edge_abs_mm, options.edge_rel * centre_mm);
+}
+
+bool SameSurface(float centre_mm, float b_mm, double tolerance) {
+  return b_mm > 0.0f && std::abs(static_cast<double>(centre_mm - b_mm)) <= tolerance;
 }
 
 // Edge-aware box mean at (u, v) over point-symmetric pairs of neighbours that are both on the
 // centre's surface: the mean of a locally linear range stays exact next to an edge. 0 = invalid.
+// Pixels whose window lies inside the image read it through precomputed offsets (the image's
+// inner loop; the same pairs in the same order as at the border, so the same sum to the bit).
 float SmoothedAt(const Image<float>& range_mm, int u, int v, const RangeNormalOptions& options) {
   const float centre = range_mm(u, v);
   const int r = options.smoothing_radius_px;
   if (centre <= 0.0f || r == 0) return centre;
-  auto on_surface = [&](int uu, int vv) {
-    return range_mm.Contains(uu, vv) && SameSurface(centre, range_mm(uu, vv), options);
-  };
+  const double tolerance = EdgeTolerance(centre, options);
   double sum = centre;
   int count = 1;
-  for (int dv = 0; dv <= r; ++dv) {
-    for (int du = (dv == 0 ? 1 : -r); du <= r; ++du) {  // half of the window: one of each pair
-      if (!on_surface(u + du, v + dv) || !on_surface(u - du, v - dv)) continue;
-      sum += static_cast<double>(range_mm(u + du, v + dv)) + range_mm(u - du, v - dv);
-      count += 2;
+  auto add_pair = [&](float a, float b) {
+    if (!SameSurface(centre, a, tolerance) || !SameSurface(centre, b, tolerance)) return;
+    sum += static_cast<double>(a) + b;
+    count += 2;
+  };
+  const int w = range_mm.width();
+  if (u >= r && v >= r && u + r < w && v + r < range_mm.height()) {
+    const float* c = &range_mm(u, v);
+    for (int dv = 0; dv <= r; ++dv) {
+      for (int du = (dv == 0 ? 1 : -r); du <= r; ++du) {  // half of the window: one of each pair
+        const std::ptrdiff_t offset = static_cast<std::ptrdiff_t>(dv) * w + du;
+        add_pair(c[offset], c[-offset]);
+      }
     }
+    return static_cast<float>(sum / count);
+  }
+  auto at = [&](int uu, int vv) { return range_mm.Contains(uu, vv) ? range_mm(uu, vv) : 0.0f; };
+  for (int dv = 0; dv <= r; ++dv) {
+    for (int du = (dv == 0 ? 1 : -r); du <= r; ++du)
+      add_pair(at(u + du, v + dv), at(u - du, v - dv));
   }
   return static_cast<float>(sum / count);
 }
@@ -47,13 +65,14 @@ template <typename RangeAt>
 std::optional<Eigen::Vector3f> Tangent(const RangeAt& at, const AhatCamera& camera, int u, int v,
                                        int du, int dv, const RangeNormalOptions& options) {
   const float centre = at(u, v);
+  const double tolerance = EdgeTolerance(centre, options);
   auto point = [&](int uu, int vv) -> std::optional<Eigen::Vector3f> {
     if (uu < 0 || vv < 0 || uu >= camera.width() || vv >= camera.height() ||
         !camera.IsValid(uu, vv)) {
       return std::nullopt;
     }
     const float d = at(uu, vv);
-    if (!SameSurface(centre, d, options)) return std::nullopt;
+    if (!SameSurface(centre, d, tolerance)) return std::nullopt;
     return Eigen::Vector3f(camera.PixelRay(uu, vv) * d);
   };
   const std::optional<Eigen::Vector3f> plus = point(u + du, v + dv);
@@ -101,8 +120,11 @@ void RangeNormalOptions::Check() const {
   }
 }
 
-RangeNormals ComputeRangeNormals(const Image<float>& range_mm, const AhatCamera& camera,
-                                 const RangeNormalOptions& options) {
+namespace {
+
+// The normals of ComputeRangeNormals, and their incidence angles when `incidence_rad` is given.
+Image<Eigen::Vector3f> NormalsOf(const Image<float>& range_mm, const AhatCamera& camera,
+                                 const RangeNormalOptions& options, Image<float>* incidence_rad) {
   options.Check();
   if (range_mm.width() != camera.width() || range_mm.height() != camera.height()) {
     throw std::invalid_argument("ComputeRangeNormals: range image and camera sizes differ");
@@ -114,18 +136,33 @@ RangeNormals ComputeRangeNormals(const Image<float>& range_mm, const AhatCamera&
     for (int u = 0; u < w; ++u) smooth(u, v) = SmoothedAt(range_mm, u, v, options);
   });
   auto at = [&](int u, int v) { return smooth(u, v); };
-  RangeNormals out{Image<Eigen::Vector3f>(w, h),
-                   Image<float>(w, h, std::numeric_limits<float>::quiet_NaN())};
+  Image<Eigen::Vector3f> normal(w, h);
+  if (incidence_rad) *incidence_rad = Image<float>(w, h, std::numeric_limits<float>::quiet_NaN());
   ParallelFor(0, h, [&](std::int64_t row) {
     const int v = static_cast<int>(row);
     for (int u = 0; u < w; ++u) {
       const std::optional<Eigen::Vector3f> n = NormalAt(at, camera, u, v, options);
       if (!n) continue;
-      out.normal(u, v) = *n;
-      out.incidence_rad(u, v) = Incidence(*n, camera.PixelRay(u, v));
+      normal(u, v) = *n;
+      if (incidence_rad) (*incidence_rad)(u, v) = Incidence(*n, camera.PixelRay(u, v));
     }
   });
+  return normal;
+}
+
+}  // namespace
+
+RangeNormals ComputeRangeNormals(const Image<float>& range_mm, const AhatCamera& camera,
+                                 const RangeNormalOptions& options) {
+  RangeNormals out;
+  out.normal = NormalsOf(range_mm, camera, options, &out.incidence_rad);
   return out;
+}
+
+Image<Eigen::Vector3f> ComputeRangeNormalVectors(const Image<float>& range_mm,
+                                                 const AhatCamera& camera,
+                                                 const RangeNormalOptions& options) {
+  return NormalsOf(range_mm, camera, options, nullptr);
 }
 
 Image<float> RangeAsFloat(const Image<std::uint16_t>& range_mm) {

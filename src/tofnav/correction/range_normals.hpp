@@ -35,6 +35,11 @@ struct RangeNormals {
 /// neighbours are valid and on the same surface, one-sided otherwise); n = du x dv.
 RangeNormals ComputeRangeNormals(const Image<float>& range_mm, const AhatCamera& camera,
                                  const RangeNormalOptions& options = {});
+/// ComputeRangeNormals' normals alone, without the incidence angles (their arccos is a fifth of
+/// the cost): for callers that need only the normals, such as the multipath removal.
+Image<Eigen::Vector3f> ComputeRangeNormalVectors(const Image<float>& range_mm,
+                                                 const AhatCamera& camera,
+                                                 const RangeNormalOptions& options = {});
 
 struct PixelNormal {
   Eigen::Vector3f normal;  // unit, facing the camera
