@@ -67,6 +67,7 @@ struct CyclicRangeError {
   double period_mm = 0.0;
   double phase_rad = 0.0;
   bool enabled() const { return amplitude_mm != 0.0; }
+  bool operator==(const CyclicRangeError&) const = default;
   /// w(d) at the range the sensor measured before the cyclic error was added.
   double Mm(double phase_range_mm) const;
   /// The phase range d from a measured range d_m = d + w(d) (fixed point; |w'| << 1).

@@ -30,17 +30,12 @@ double SignedDistanceTo(const SurfaceIndex& skin, std::uint32_t nearest,
   return skin.normals()[nearest].dot(point_in_image - skin.points()[nearest]);
 }
 
-bool SameCyclic(const CyclicRangeError& a, const CyclicRangeError& b) {
-  return a.amplitude_mm == b.amplitude_mm && a.period_mm == b.period_mm &&
-         a.phase_rad == b.phase_rad;
-}
-
 // The neighbours' decycled ranges for `model`, recomputed only when its cyclic error changed;
 // null when there is nothing to keep (no cache, or no cyclic error).
 const std::vector<double>* Decycled(const MarkerPatch& patch, const DepthErrorModel& model,
                                     DecycledRanges* cache) {
   if (cache == nullptr || !model.cyclic.enabled()) return nullptr;
-  if (!SameCyclic(cache->key, model.cyclic) || cache->range_mm.size() != patch.neighbours.size()) {
+  if (cache->key != model.cyclic || cache->range_mm.size() != patch.neighbours.size()) {
     cache->range_mm.resize(patch.neighbours.size());
     for (std::size_t i = 0; i < patch.neighbours.size(); ++i) {
       cache->range_mm[i] = model.cyclic.RemoveMm(patch.neighbours[i].range_mm);

@@ -3,7 +3,9 @@
 #include "tofnav/registration/icp.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -18,6 +20,9 @@ namespace tofnav {
 namespace {
 
 constexpr std::size_t kChunk = 1024;      // points per task and per partial sum
+constexpr int kNearestSet = 4;            // target points kept per query: a point between skin
+                                          // samples keeps its answer while it moves (measured on
+                                          // the demo's identification: docs/registration.md 5)
 constexpr double kOrderCellMm = 4.0;      // Morton cell of the query order
 constexpr double kMadToSigma = 1.4826;    // median |r| of a unit Gaussian is 1 / 1.4826
 constexpr double kHuberK = 1.345;         // 95 % efficiency under Gaussian noise
@@ -34,20 +39,64 @@ struct Match {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // the target's
   double residual_mm = 0.0;                          // n . (x - q), Chen & Medioni 1992
   bool valid = false;
-  // The last KD-tree query: where the point was, its nearest target point and the distances of
-  // that point and of all others. Until the point has moved half their gap, the nearest point
-  // cannot change, so the query is skipped: the result is exactly that of a new query.
+  // The last KD-tree query: where the point was, its nearest target points (closest first) and
+  // a distance that every other target point lies beyond. Until the point has moved so far that
+  // one of those could come nearer than the nearest of the set, the nearest target point is the
+  // set's nearest, and the query is skipped: the result is exactly that of a new query.
   Eigen::Vector3d queried_at = Eigen::Vector3d::Zero();
   std::optional<std::uint32_t> nearest;
-  double nearest_mm = 0.0;
+  std::array<std::uint32_t, kNearestSet> set{};
+  int set_count = 0;
   double others_from_mm = -1.0;  // negative: no query yet
 };
 
 std::size_t ChunkCount(std::size_t n) { return (n + kChunk - 1) / kChunk; }
 
-bool Reusable(const Match& m, const Eigen::Vector3d& point_in_target) {
-  const double moved_mm = (point_in_target - m.queried_at).norm();
-  return 2.0 * moved_mm < m.others_from_mm - m.nearest_mm;
+/// The point's nearest target point now that it lies at `point_in_target`, from its last query,
+/// when that provably holds: one set point nearer than every other set point and than
+/// others_from_mm minus the distance moved (every point outside the set lies at least that far).
+/// The margin keeps the proof safe from the last bits of the distances.
+std::optional<std::uint32_t> NearestFromSet(const Match& m, const Eigen::Vector3d& point_in_target,
+                                            const Eigen::Vector3d* target) {
+  constexpr double kMarginMm = 1e-9;
+  if (m.set_count == 0) return std::nullopt;
+  const double limit_mm = m.others_from_mm - (point_in_target - m.queried_at).norm() - kMarginMm;
+  if (!(limit_mm > 0.0)) return std::nullopt;
+  double best_sq = std::numeric_limits<double>::infinity(), second_sq = best_sq;
+  int best = 0;
+  for (int k = 0; k < m.set_count; ++k) {
+    const double d_sq =
+        (target[m.set[static_cast<std::size_t>(k)]] - point_in_target).squaredNorm();
+    if (d_sq < best_sq) {
+      second_sq = best_sq;
+      best_sq = d_sq;
+      best = k;
+    } else if (d_sq < second_sq) {
+      second_sq = d_sq;
+    }
+  }
+  const double best_mm = std::sqrt(best_sq);
+  if (best_mm < limit_mm && best_mm + kMarginMm < std::sqrt(second_sq)) {
+    return m.set[static_cast<std::size_t>(best)];
+  }
+  return std::nullopt;
+}
+
+/// A new query at the point's place: its nearest target point within `max_distance_mm` and the
+/// set kept for the next calls. A tie for the nearest (duplicated target points) keeps no set:
+/// which of them a new query names is the search's business, so the next call asks it again.
+void Query(Match& m, const SurfaceIndex& target, double max_distance_mm) {
+  const SurfaceIndex::NearestSet near =
+      target.NearestK(m.point_in_target, kNearestSet, max_distance_mm);
+  m.queried_at = m.point_in_target;
+  m.nearest = near.count > 0 ? std::optional<std::uint32_t>(near.nearest[0].index) : std::nullopt;
+  const bool tie =
+      near.count > 1 && near.nearest[1].distance_sq_mm2 == near.nearest[0].distance_sq_mm2;
+  m.set_count = tie ? 0 : near.count;
+  for (int k = 0; k < m.set_count; ++k) {
+    m.set[static_cast<std::size_t>(k)] = near.nearest[static_cast<std::size_t>(k)].index;
+  }
+  m.others_from_mm = near.others_from_mm;
 }
 
 /// Calls body(first, last) per chunk in parallel and adds the per-chunk sums in chunk order, so
@@ -88,13 +137,11 @@ void Associate(const Points3d& points, const Points3d& normals, const SurfaceInd
                            r[1][0] * p[0] + r[1][1] * p[1] + r[1][2] * p[2] + t[1],
                            r[2][0] * p[0] + r[2][1] * p[1] + r[2][2] * p[2] + t[2]};
       m.valid = false;
-      if (!Reusable(m, m.point_in_target)) {
-        const SurfaceIndex::NearestPair pair =
-            target.NearestTwo(m.point_in_target, max_distance_mm);
-        m.queried_at = m.point_in_target;
-        m.nearest = pair.nearest ? std::optional<std::uint32_t>(pair.nearest->index) : std::nullopt;
-        m.nearest_mm = pair.nearest ? std::sqrt(pair.nearest->distance_sq_mm2) : max_distance_mm;
-        m.others_from_mm = pair.others_from_mm;
+      if (const std::optional<std::uint32_t> known =
+              NearestFromSet(m, m.point_in_target, target.points().data())) {
+        m.nearest = known;
+      } else {
+        Query(m, target, max_distance_mm);
       }
       if (!m.nearest) continue;
       const double* q = target.points()[*m.nearest].data();
@@ -219,8 +266,7 @@ std::optional<std::uint32_t> IcpNeighbourCache::KnownNearest(
     std::size_t index, const Eigen::Vector3d& point_in_target) const {
   if (!impl_ || index >= impl_->matches.size()) return std::nullopt;
   const Match& m = impl_->matches[index];
-  if (!m.nearest || !Reusable(m, point_in_target)) return std::nullopt;
-  return m.nearest;
+  return NearestFromSet(m, point_in_target, impl_->target_points);
 }
 
 void IcpOptions::Check() const {

@@ -72,9 +72,11 @@ struct IcpResult {
 /// The nearest-neighbour answers of one ICP's source points, kept for the next ICP on the same
 /// target with as many source points (which may have moved: an identification's cost evaluations
 /// align the same samples under slightly different depth models). An answer is reused only while
-/// it provably cannot change: the point moved less than half the gap between its nearest target
-/// point and every other one, so every result is exactly that without the cache
-/// (docs/registration.md 5). One cache per sequence of calls: not for concurrent use.
+/// it provably cannot change: each query keeps the point's few nearest target points and a
+/// distance every other target point lies beyond; while one kept point stays nearer than the
+/// others and than that distance less how far the point moved, it is the nearest, so every result
+/// is exactly that without the cache (docs/registration.md 5). One cache per sequence of calls: not
+/// for concurrent use.
 class IcpNeighbourCache {
  public:
   IcpNeighbourCache();

@@ -61,35 +61,37 @@ class BoundedNearestResult {
   bool found_ = false;
 };
 
-/// Keeps the two closest points seen below a squared-distance bound; the tree prunes every cell
-/// farther than the second best (the bound until two are found).
-class BoundedTwoNearestResult {
+/// Keeps the `capacity` closest points seen below a squared-distance bound, sorted (a later point
+/// at an equal distance after the earlier); the tree prunes every cell farther than the last kept
+/// (the bound until `capacity` are found).
+class BoundedKNearestResult {
  public:
-  explicit BoundedTwoNearestResult(double bound_sq) : second_sq_(bound_sq) {}
+  static constexpr std::size_t kCapacity = SurfaceIndex::kMaxNearestSet + 1;
+  BoundedKNearestResult(std::size_t capacity, double bound_sq)
+      : capacity_(std::clamp<std::size_t>(capacity, 1, kCapacity)), bound_sq_(bound_sq) {}
   std::size_t size() const { return count_; }
-  bool full() const { return count_ == 2; }
+  bool full() const { return count_ == capacity_; }
   bool addPoint(double distance_sq, std::uint32_t index) {
-    if (distance_sq >= second_sq_) return true;
-    if (count_ == 0 || distance_sq < first_sq_) {
-      if (count_ > 0) second_sq_ = first_sq_;  // the old first becomes the second
-      first_sq_ = distance_sq;
-      index_ = index;
-    } else {
-      second_sq_ = distance_sq;
+    if (distance_sq >= worstDist()) return true;
+    std::size_t i = std::min(count_, capacity_ - 1);  // when full, the last one is dropped
+    for (; i > 0 && distance_sq_[i - 1] > distance_sq; --i) {
+      distance_sq_[i] = distance_sq_[i - 1];
+      index_[i] = index_[i - 1];
     }
-    count_ = std::min<std::size_t>(count_ + 1, 2);
+    distance_sq_[i] = distance_sq;
+    index_[i] = index;
+    count_ = std::min(count_ + 1, capacity_);
     return true;
   }
-  double worstDist() const { return second_sq_; }
-  std::optional<Neighbour> Get() const {
-    if (count_ == 0) return std::nullopt;
-    return Neighbour{index_, first_sq_};
-  }
+  double worstDist() const { return full() ? distance_sq_[capacity_ - 1] : bound_sq_; }
+  double distance_sq(std::size_t i) const { return distance_sq_[i]; }
+  std::uint32_t index(std::size_t i) const { return index_[i]; }
 
  private:
-  double first_sq_ = 0.0;
-  double second_sq_;
-  std::uint32_t index_ = 0;
+  std::size_t capacity_;
+  double bound_sq_;
+  std::array<double, kCapacity> distance_sq_{};
+  std::array<std::uint32_t, kCapacity> index_{};
   std::size_t count_ = 0;
 };
 
@@ -228,11 +230,18 @@ std::optional<Neighbour> SurfaceIndex::Nearest(const Eigen::Vector3d& query,
   return result.Get();
 }
 
-SurfaceIndex::NearestPair SurfaceIndex::NearestTwo(const Eigen::Vector3d& query,
-                                                   double max_distance_mm) const {
-  BoundedTwoNearestResult result(max_distance_mm * max_distance_mm);
+SurfaceIndex::NearestSet SurfaceIndex::NearestK(const Eigen::Vector3d& query, int k,
+                                                double max_distance_mm) const {
+  const auto wanted = static_cast<std::size_t>(std::clamp(k, 1, kMaxNearestSet));
+  BoundedKNearestResult result(wanted + 1, max_distance_mm * max_distance_mm);
   impl_->tree->findNeighbors(result, query.data(), nanoflann::SearchParams());
-  return {result.Get(), std::sqrt(result.worstDist())};
+  NearestSet out;
+  out.count = static_cast<int>(std::min(result.size(), wanted));
+  for (std::size_t i = 0; i < static_cast<std::size_t>(out.count); ++i) {
+    out.nearest[i] = {result.index(i), result.distance_sq(i)};
+  }
+  out.others_from_mm = std::sqrt(result.worstDist());
+  return out;
 }
 
 std::vector<Neighbour> SurfaceIndex::KNearest(const Eigen::Vector3d& query, int k) const {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -51,14 +52,18 @@ class SurfaceIndex {
   /// The nearest point strictly closer than `max_distance_mm`, if any (bounded search: much
   /// faster than an unbounded one when the bound is tight).
   std::optional<Neighbour> Nearest(const Eigen::Vector3d& query, double max_distance_mm) const;
-  /// The nearest point as Nearest() does, and a lower bound on the distance of every other
-  /// point [mm]: the second nearest's distance, or max_distance_mm when there is none closer.
-  /// While a query point moves by less than half their gap, its nearest point cannot change.
-  struct NearestPair {
-    std::optional<Neighbour> nearest;
+  /// Up to `k` (1 to kMaxNearestSet) nearest points strictly closer than `max_distance_mm`,
+  /// closest first (in a tie, the one the search met first), and a lower bound on the distance of
+  /// every other point [mm]: the (k+1)-th nearest's distance, or max_distance_mm when no more lie
+  /// closer. While a query point moves by less than that bound minus its distance to a set point,
+  /// no point outside the set can come nearer than that one.
+  static constexpr int kMaxNearestSet = 8;
+  struct NearestSet {
+    std::array<Neighbour, kMaxNearestSet> nearest{};
+    int count = 0;
     double others_from_mm = 0.0;
   };
-  NearestPair NearestTwo(const Eigen::Vector3d& query, double max_distance_mm) const;
+  NearestSet NearestK(const Eigen::Vector3d& query, int k, double max_distance_mm) const;
   /// The k nearest points, closest first (fewer when the index is smaller than k).
   std::vector<Neighbour> KNearest(const Eigen::Vector3d& query, int k) const;
   /// Every point within `radius_mm`, closest first.

@@ -34,7 +34,7 @@ std::vector<double> BruteDistancesSq(const Points3d& points, const Eigen::Vector
   return d;
 }
 
-TEST(SurfaceIndex, NearestAndNearestTwoMatchBruteForceWithinTheBound) {
+TEST(SurfaceIndex, NearestAndNearestKMatchBruteForceWithinTheBound) {
   const PointCloud cloud = RandomCloud(500, 1);
   const SurfaceIndex index(cloud);
   std::mt19937_64 rng(2);
@@ -45,14 +45,26 @@ TEST(SurfaceIndex, NearestAndNearestTwoMatchBruteForceWithinTheBound) {
     const std::vector<double> d = BruteDistancesSq(cloud.points, query);
     const auto best = std::min_element(d.begin(), d.end());
     const std::optional<Neighbour> near = index.Nearest(query, 6.0);
-    // NearestTwo: the same nearest, and the second nearest (or the bound) for the others.
-    const SurfaceIndex::NearestPair pair = index.NearestTwo(query, 6.0);
+    // NearestK: the k nearest within the bound in order, the first being Nearest's, and the
+    // (k + 1)-th nearest (or the bound) for the others.
     std::vector<double> sorted = d;
     std::sort(sorted.begin(), sorted.end());
-    EXPECT_DOUBLE_EQ(pair.others_from_mm, std::min(std::sqrt(sorted[1]), 6.0));
-    EXPECT_EQ(pair.nearest.has_value(), near.has_value());
-    if (near) {
-      EXPECT_EQ(pair.nearest->index, near->index);
+    for (const int k : {1, 4, SurfaceIndex::kMaxNearestSet}) {
+      const SurfaceIndex::NearestSet set = index.NearestK(query, k, 6.0);
+      const auto within = std::lower_bound(sorted.begin(), sorted.end(), 36.0) - sorted.begin();
+      ASSERT_EQ(set.count, std::min<int>(k, static_cast<int>(within)));
+      for (int i = 0; i < set.count; ++i) {
+        EXPECT_EQ(set.nearest[static_cast<std::size_t>(i)].distance_sq_mm2,
+                  sorted[static_cast<std::size_t>(i)]);
+        EXPECT_EQ(d[set.nearest[static_cast<std::size_t>(i)].index],
+                  sorted[static_cast<std::size_t>(i)]);
+      }
+      EXPECT_DOUBLE_EQ(set.others_from_mm,
+                       std::min(std::sqrt(sorted[static_cast<std::size_t>(k)]), 6.0));
+      EXPECT_EQ(set.count > 0, near.has_value());
+      if (near) {
+        EXPECT_EQ(set.nearest[0].index, near->index);
+      }
     }
     if (*best < 36.0) {
       ASSERT_TRUE(near.has_value());
