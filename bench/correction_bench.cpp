@@ -7,6 +7,7 @@
 
 #include "correction_test_scenes.hpp"
 #include "tofnav/correction/identification.hpp"
+#include "tofnav/correction/head_region.hpp"
 #include "tofnav/correction/initial_pose.hpp"
 #include "tofnav/correction/multipath_correction.hpp"
 #include "tofnav/correction/range_normals.hpp"
@@ -108,6 +109,14 @@ void BM_RemoveMultipathFrame(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_RemoveMultipathFrame)->Unit(benchmark::kMillisecond)->Repetitions(5);
+
+// One rendered frame's automatic head region (planes, components, plates, components).
+void BM_SelectHeadRegionFrame(benchmark::State& state) {
+  const RenderedRun& run = Rendered();
+  const Image<float> range = RangeAsFloat(run.frames[0].range_mm);
+  for (auto _ : state) benchmark::DoNotOptimize(SelectHeadRegion(range, *run.camera));
+}
+BENCHMARK(BM_SelectHeadRegionFrame)->Unit(benchmark::kMillisecond)->Repetitions(5);
 
 }  // namespace
 }  // namespace tofnav
