@@ -6,8 +6,8 @@
 #include <Eigen/Geometry>
 
 #include "correction_test_scenes.hpp"
-#include "tofnav/correction/identification.hpp"
 #include "tofnav/correction/head_region.hpp"
+#include "tofnav/correction/identification.hpp"
 #include "tofnav/correction/initial_pose.hpp"
 #include "tofnav/correction/multipath_correction.hpp"
 #include "tofnav/correction/range_normals.hpp"
