@@ -15,7 +15,6 @@
 #include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/evaluation/guidance_evaluate.hpp"
 #include "tofnav/evaluation/tracking_truth.hpp"
-#include "tofnav/imaging/skin.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/pipeline/marker_tasks.hpp"
@@ -23,7 +22,6 @@
 #include "tofnav/recording/open_recording.hpp"
 #include "tofnav/registration/register_surface.hpp"
 #include "tofnav/scenario/truth_json.hpp"
-#include "tofnav/volume/volume_io.hpp"
 
 namespace tofnav {
 namespace {
@@ -38,8 +36,8 @@ double AngleDeg(const Rigid3d& a, const Rigid3d& b) {
 
 void RunDemoRegistration(DemoContext& ctx, DemoJson& stage) {
   Require(ctx.surface.has_value(), "no reconstructed surface (stage reconstruction failed)");
-  const SkinResult skin = ExtractSkin(ReadVolume(ctx.session_dir / "ct.nrrd"));
-  WriteMesh(ctx.out / "skin.ply", skin.mesh);
+  const TriangleMesh& skin = DemoSkin(ctx);
+  WriteMesh(ctx.out / "skin.ply", skin);
   const std::vector<Trajectory> plan = ReadTrajectories(ctx.session_dir / "plan.mrk.json");
   std::vector<Eigen::Vector3d> targets;
   for (const Trajectory& t : plan) targets.push_back(t.target_lps_mm);
@@ -49,12 +47,12 @@ void RunDemoRegistration(DemoContext& ctx, DemoJson& stage) {
   if (ctx.method == Method::kPaper) {
     UsePaperRegistration(options);
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // the skin's centroid, in `image`
-    for (const Eigen::Vector3d& v : skin.mesh.vertices) centre += v;
-    centre /= static_cast<double>(std::max<std::size_t>(1, skin.mesh.vertices.size()));
+    for (const Eigen::Vector3d& v : skin.vertices) centre += v;
+    centre /= static_cast<double>(std::max<std::size_t>(1, skin.vertices.size()));
     guess = HandPlacedStart(ctx.true_tool_from_image, centre, ctx.seed);
   }
   const RegisterSurfaceResult r =
-      RegisterSurface(surface, SurfaceIndex(skin.mesh), targets, options, guess);
+      RegisterSurface(surface, SurfaceIndex(skin), targets, options, guess);
   const RegistrationQuality& q = r.quality;
   WriteTransform(ctx.out / "tool_from_image.json", {"tool",
                                                     "image",

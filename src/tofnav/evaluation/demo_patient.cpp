@@ -23,7 +23,6 @@
 #include "tofnav/scenario/simulate.hpp"
 #include "tofnav/scenario/truth_json.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
-#include "tofnav/volume/volume_io.hpp"
 
 namespace tofnav {
 namespace {
@@ -164,7 +163,7 @@ DemoJson IdentificationStability(const DemoContext& ctx, const AhatRecording& re
 
 void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   const SessionFiles s = OpenSession(ctx);
-  const SurfaceIndex skin(SkinIsoSurface(ReadVolume(ctx.session_dir / "ct.nrrd")));
+  const SurfaceIndex skin(DemoSkin(ctx));
   IdentifyRecordingOptions options;  // the automatic head region leaves the headframe out
   options.max_frames = static_cast<int>(ctx.session_frames);
   // Tracked tools' markers are left out before the sticker tests (docs/correction.md 2).

@@ -9,9 +9,20 @@
 #include <cmath>
 #include <iostream>
 
+#include "tofnav/imaging/skin.hpp"
 #include "tofnav/scenario/patient_head.hpp"
+#include "tofnav/volume/volume_io.hpp"
 
 namespace tofnav {
+
+const TriangleMesh& DemoSkin(DemoContext& ctx) {
+  const std::filesystem::path ct = ctx.session_dir / "ct.nrrd";
+  if (!ctx.skin || ctx.skin_of != ct) {
+    ctx.skin = ExtractSkin(ReadVolume(ct)).mesh;
+    ctx.skin_of = ct;
+  }
+  return *ctx.skin;
+}
 
 DemoJson Acceptance(const std::string& figure, double value, const std::string& op, double limit) {
   const bool met = op == "<=" ? value <= limit : value >= limit;

@@ -58,10 +58,17 @@ struct DemoContext {
   std::filesystem::path session_dir;               // its folder
   std::optional<DepthModelFile> depth_model;       // stage depth
   std::optional<TriangleMesh> surface;             // stage reconstruction, in the headframe frame
-  std::optional<Rigid3d> tool_from_image;          // stage registration
-  Rigid3d true_tool_from_image;                    // the headframe's truth (session)
+  /// The session CT's skin (`tofnav skin`'s defaults), extracted once for the depth and
+  /// registration stages (DemoSkin); `skin_of` is the CT it was extracted from.
+  std::optional<TriangleMesh> skin;
+  std::filesystem::path skin_of;
+  std::optional<Rigid3d> tool_from_image;  // stage registration
+  Rigid3d true_tool_from_image;            // the headframe's truth (session)
   std::string truth_tool;  // the simulator's tool whose frame the headframe tool shares
 };
+
+/// The skin of the session's CT (ctx.session_dir / "ct.nrrd"), extracted on first use.
+const TriangleMesh& DemoSkin(DemoContext& ctx);
 
 /// One acceptance line: `value` against `limit` (`op` "<=" or ">=").
 DemoJson Acceptance(const std::string& figure, double value, const std::string& op, double limit);
