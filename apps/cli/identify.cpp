@@ -128,6 +128,10 @@ int RunIdentify(int argc, char** argv) {
                  "the sensor's cyclic range error A [mm] P [mm] phi [rad], held fixed "
                  "(docs/correction.md 2.2)")
       ->expected(3);
+  bool uncentred = false;
+  app.add_flag("--uncentred", uncentred,
+               "keep the start's references (theta 0, AB_ref 130) instead of the head samples' "
+               "medians: C1 as Eq. (3) writes it, poorly determined (docs/correction.md 2.7)");
   app.add_option("--fit-cyclic-error", options.fit_cyclic_period_mm,
                  "fit the sensor's cyclic range error at this period [mm] (e.g. 351.7 = L / 3) "
                  "with the coefficients: its amplitude and phase; 0: off (docs/correction.md 2.2)")
@@ -209,6 +213,7 @@ int RunIdentify(int argc, char** argv) {
   identify.cross_validate_folds = folds;
   identify.start = start;
   identify.sampling = sampling;
+  options.centre_references = !uncentred;
   identify.identification = options;
   for (const std::filesystem::path& p : tool_paths)
     identify.exclude_tools.push_back(ReadToolFile(p));
@@ -246,6 +251,8 @@ int RunIdentify(int argc, char** argv) {
                                {"c2", m.c2},
                                {"c3_mm", m.c3_mm},
                                {"c4_mm", m.c4_mm},
+                               {"theta_reference_rad", m.theta_reference_rad},
+                               {"ab_reference", m.ab_reference},
                                {"cyclic_error", CyclicErrorToJson(m.cyclic)},
                                {"costs", m.report.costs},
                                {"multipath_removed", m.multipath.enabled},
@@ -273,7 +280,9 @@ int RunIdentify(int argc, char** argv) {
   std::cout << "model " << m.Name() << " (" << m.report.costs << ", " << m.report.frames_used
             << " frames, " << m.report.seconds << " s)\n"
             << "  C1 = " << m.c1_mm << " mm, C2 = " << m.c2 << ", C3 = " << m.c3_mm
-            << " mm/unit, C4 = " << m.c4_mm << " mm\n";
+            << " mm/unit, C4 = " << m.c4_mm << " mm\n"
+            << "  C1 is the bias at theta_ref = " << m.theta_reference_rad
+            << " rad, AB_ref = " << m.ab_reference << " (docs/correction.md 2.7)\n";
   if (m.cyclic.enabled()) {
     std::cout << "  cyclic error " << m.cyclic.amplitude_mm << " mm at period "
               << m.cyclic.period_mm << " mm, phase " << m.cyclic.phase_rad << " rad ("

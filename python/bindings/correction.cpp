@@ -81,6 +81,7 @@ void DefineDepthModel(py::module_& m) {
       .def_readwrite("use_range_term", &DepthErrorModel::use_range_term,
                      "False: C2 held at 0 (the intensity form, tofnav's default)")
       .def_readwrite("ab_reference", &DepthErrorModel::ab_reference)
+      .def_readwrite("theta_reference_rad", &DepthErrorModel::theta_reference_rad)
       .def_readwrite("multipath", &DepthErrorModel::multipath,
                      "MultipathCorrectionOptions applied before Eq. (4) (off unless identified so)")
       .def_property(

@@ -281,6 +281,9 @@ DepthModelFile DecodeDepthModelJson(std::string_view text, const Path& path) {
   model.c4_mm = FiniteJsonNumber(Member(c, "c4_mm", path, "model.coefficients"), path, "c4_mm");
   model.ab_reference =
       FiniteJsonNumber(Member(c, "ab_reference", path, "model.coefficients"), path, "ab_reference");
+  if (const auto it = c.find("theta_reference_rad"); it != c.end()) {  // absent: written before it
+    model.theta_reference_rad = FiniteJsonNumber(*it, path, "theta_reference_rad");
+  }
   if (const auto it = m.find("cyclic_error"); it != m.end() && !it->is_null()) {
     const std::string at = "model.cyclic_error";  // absent in files written before it: off
     model.cyclic.amplitude_mm =
@@ -310,7 +313,8 @@ std::string EncodeDepthModelJson(const DepthModelFile& file, const OrderedJson* 
   OrderedJson json{{"format", kModelFormat}, {"version", 1}};
   json["model"] = {
       {"kind", m.Name()},
-      {"equation", "measured - true range = C1 + C2 d + C3 g(theta) + C4 ln(AB_ref / AB)"},
+      {"equation",
+       "measured - true range = C1 + C2 d + C3 (g(theta) - g(theta_ref)) + C4 ln(AB_ref / AB)"},
       {"angle_term", AngleTermName(m.angle_term)},
       {"use_intensity", m.use_intensity},
       {"use_range_term", m.use_range_term},
@@ -319,14 +323,16 @@ std::string EncodeDepthModelJson(const DepthModelFile& file, const OrderedJson* 
         {"c2", m.c2},
         {"c3_mm", m.c3_mm},
         {"c4_mm", m.c4_mm},
-        {"ab_reference", m.ab_reference}}},
+        {"ab_reference", m.ab_reference},
+        {"theta_reference_rad", m.theta_reference_rad}}},
       {"units",
        {{"c1_mm", "mm"},
         {"c2", "mm per mm of true range"},
         {"c3_mm", std::string("mm per unit of g(theta) = ") +
                       std::string(AngleTermName(m.angle_term)) + ", theta in rad"},
         {"c4_mm", "mm per unit of ln(AB_ref / AB)"},
-        {"ab_reference", "AB counts"}}}};
+        {"ab_reference", "AB counts"},
+        {"theta_reference_rad", "rad: g(theta) enters as g(theta) - g(theta_reference_rad)"}}}};
   json["model"]["multipath"] = MultipathToJson(m.multipath);
   json["model"]["cyclic_error"] = CyclicErrorToJson(m.cyclic);
   json["model"]["cyclic_error"]["equation"] =

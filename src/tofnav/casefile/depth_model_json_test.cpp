@@ -122,6 +122,21 @@ TEST(DepthModelJson, TheCyclicErrorRoundTripsAndAnOlderFileHasNone) {
   EXPECT_FALSE(DecodeDepthModelJson(older.dump()).model.cyclic.enabled());
 }
 
+TEST(DepthModelJson, TheAngleReferenceRoundTripsAndAnOlderFileHasZero) {
+  DepthModelFile in = Example();
+  in.model.theta_reference_rad = 0.61;
+  const std::string text = EncodeDepthModelJson(in);
+  EXPECT_EQ(DecodeDepthModelJson(text).model.theta_reference_rad, 0.61);
+  // Outside [0, pi/2] it is refused, naming the model.
+  nlohmann::json bad = nlohmann::json::parse(text);
+  bad["model"]["coefficients"]["theta_reference_rad"] = 2.0;
+  EXPECT_THROW(DecodeDepthModelJson(bad.dump()), IoError);
+  // Files written before the member existed wrote C1 at theta = 0.
+  nlohmann::json older = nlohmann::json::parse(text);
+  older["model"]["coefficients"].erase("theta_reference_rad");
+  EXPECT_EQ(DecodeDepthModelJson(older.dump()).model.theta_reference_rad, 0.0);
+}
+
 TEST(DepthModelJson, AnOlderFileWithoutTheDampingIsReadUndamped) {
   // Its coefficients were identified with the undamped fixed point: correct as they were fitted.
   DepthModelFile in = Example();

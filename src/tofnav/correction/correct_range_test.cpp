@@ -117,14 +117,42 @@ TEST(CorrectRangeImage, DropsSurfacePixelsSeenBeyondTheMaximumIncidence) {
   EXPECT_GT(kept, 81);  // the marker and the pixels seen nearly head-on
 }
 
+// KnownModel with the angle term `term` and an intensity term of 0.7 mm per ln unit.
+DepthErrorModel WithIntensityTerm(AngleTerm term) {
+  DepthErrorModel model = KnownModel();
+  model.angle_term = term;
+  model.use_intensity = true;
+  model.c4_mm = 0.7;
+  return model;
+}
+
+TEST(DepthErrorModel, OtherReferencesGiveTheSameBias) {
+  constexpr double kTolMm = 1e-9;  // exact algebra
+  for (const AngleTerm term :
+       {AngleTerm::kTheta, AngleTerm::kThetaSquared, AngleTerm::kOneMinusCos}) {
+    const DepthErrorModel model = WithIntensityTerm(term);
+    const DepthErrorModel moved = model.WithReferences(0.65, 210.0);
+    EXPECT_EQ(moved.theta_reference_rad, 0.65);
+    EXPECT_EQ(moved.ab_reference, 210.0);
+    // C1 is now the bias at the references (and d = 0).
+    EXPECT_NEAR(moved.c1_mm, model.BiasMm(0.0, 0.65, 210.0), kTolMm);
+    for (const double theta : {0.0, 0.4, 1.2}) {
+      for (const double ab : {40.0, 130.0, 900.0}) {
+        EXPECT_NEAR(moved.BiasMm(432.0, theta, ab), model.BiasMm(432.0, theta, ab), kTolMm);
+      }
+    }
+    EXPECT_NEAR(moved.WithReferences(0.0, 130.0).c1_mm, model.c1_mm, kTolMm);
+  }
+  DepthErrorModel bad = KnownModel();
+  bad.theta_reference_rad = 2.0;
+  EXPECT_THROW(bad.Check(), std::invalid_argument);
+}
+
 TEST(DepthErrorModel, CorrectInvertsBias) {
   constexpr double kTolMm = 1e-9;  // exact algebra
   for (const AngleTerm term :
        {AngleTerm::kTheta, AngleTerm::kThetaSquared, AngleTerm::kOneMinusCos}) {
-    DepthErrorModel model = KnownModel();
-    model.angle_term = term;
-    model.use_intensity = true;
-    model.c4_mm = 0.7;
+    const DepthErrorModel model = WithIntensityTerm(term);
     const double d = 432.0, theta = 0.7, ab = 90.0;
     EXPECT_NEAR(model.CorrectRangeMm(d + model.BiasMm(d, theta, ab), theta, ab), d, kTolMm);
     EXPECT_EQ(ParseAngleTerm(AngleTermName(term)), term);

@@ -33,8 +33,10 @@ void CyclicRangeError::Check() const {
   }
 }
 
-double DepthErrorModel::AngleFeature(double theta_rad) const {
-  switch (angle_term) {
+namespace {
+
+double AngleTermValue(AngleTerm term, double theta_rad) {
+  switch (term) {
     case AngleTerm::kThetaSquared:
       return theta_rad * theta_rad;
     case AngleTerm::kOneMinusCos:
@@ -43,6 +45,21 @@ double DepthErrorModel::AngleFeature(double theta_rad) const {
       break;
   }
   return theta_rad;
+}
+
+}  // namespace
+
+double DepthErrorModel::AngleFeature(double theta_rad) const {
+  return AngleTermValue(angle_term, theta_rad) - AngleTermValue(angle_term, theta_reference_rad);
+}
+
+DepthErrorModel DepthErrorModel::WithReferences(double theta_ref_rad, double ab_ref) const {
+  DepthErrorModel out = *this;
+  out.theta_reference_rad = theta_ref_rad;
+  out.ab_reference = ab_ref;
+  out.c1_mm = c1_mm + c3_mm * AngleFeature(theta_ref_rad) + c4_mm * IntensityFeature(ab_ref);
+  out.Check();
+  return out;
 }
 
 double DepthErrorModel::IntensityFeature(double ab) const {
@@ -85,6 +102,9 @@ void DepthErrorModel::Check() const {
   }
   if (!(ab_reference > 0.0) || !std::isfinite(ab_reference)) {
     throw std::invalid_argument("DepthErrorModel: ab_reference must be > 0");
+  }
+  if (!(theta_reference_rad >= 0.0 && theta_reference_rad <= 0.5 * std::numbers::pi)) {
+    throw std::invalid_argument("DepthErrorModel: theta_reference_rad must be in [0, pi/2]");
   }
   cyclic.Check();
 }

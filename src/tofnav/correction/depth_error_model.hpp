@@ -76,21 +76,25 @@ struct CyclicRangeError {
   void Check() const;
 };
 
-/// delta_d = C1 + C2 d + C3 g(theta) + C4 ln(AB_ref / AB): measured minus true range [mm] of a
-/// surface pixel at true range d [mm], incidence theta [rad] and active brightness AB [counts]
-/// (Eq. 3 with the angle term g = theta and C4 = 0). The intensity term (C4, off unless
-/// use_intensity) is 0 at AB = ab_reference. Without the range term (use_range_term false) C2 is
-/// held at 0: with the intensity term on, the range enters through AB ~ cos(theta) / d^2, and C2 d
-/// and C4 ln(1 / AB) are nearly collinear over 300-700 mm (docs/correction.md 2.1).
+/// delta_d = C1 + C2 d + C3 (g(theta) - g(theta_ref)) + C4 ln(AB_ref / AB): measured minus true
+/// range [mm] of a surface pixel at true range d [mm], incidence theta [rad] and active brightness
+/// AB [counts] (Eq. 3 with the angle term g = theta, theta_ref = 0 and C4 = 0). The intensity term
+/// (C4, off unless use_intensity) is 0 at AB = ab_reference, the angle term at theta_reference_rad:
+/// C1 is the bias at the reference conditions. The identification puts them at its head samples'
+/// medians, where C1 is well determined (docs/correction.md 2.7). Without the range term
+/// (use_range_term false) C2 is held at 0: with the intensity term on, the range enters through AB
+/// ~ cos(theta) / d^2, and C2 d and C4 ln(1 / AB) are nearly collinear over 300-700 mm
+/// (docs/correction.md 2.1).
 struct DepthErrorModel {
   AngleTerm angle_term = AngleTerm::kTheta;
   bool use_intensity = false;
   bool use_range_term = true;
   double c1_mm = 0.0;
-  double c2 = 0.0;              // dimensionless (mm per mm)
-  double c3_mm = 0.0;           // mm per unit of g(theta) (mm/rad for kTheta)
-  double c4_mm = 0.0;           // mm per unit of ln(AB_ref / AB)
-  double ab_reference = 130.0;  // counts
+  double c2 = 0.0;                   // dimensionless (mm per mm)
+  double c3_mm = 0.0;                // mm per unit of g(theta) (mm/rad for kTheta)
+  double c4_mm = 0.0;                // mm per unit of ln(AB_ref / AB)
+  double ab_reference = 130.0;       // counts
+  double theta_reference_rad = 0.0;  // in [0, pi/2]
   /// Multipath removed from the measured range before Eq. (4) (and before the identification that
   /// fitted C1..C4): the model holds only for ranges prepared the same way. Off for a model that
   /// does not say (files written before it existed).
@@ -100,7 +104,7 @@ struct DepthErrorModel {
   CyclicRangeError cyclic;
   DepthModelFitReport report;
 
-  /// g(theta) of the chosen angle term.
+  /// g(theta) - g(theta_reference_rad) of the chosen angle term.
   double AngleFeature(double theta_rad) const;
   /// ln(ab_reference / AB) when use_intensity (AB clamped to >= 1), else 0.
   double IntensityFeature(double ab) const;
@@ -115,8 +119,11 @@ struct DepthErrorModel {
   /// Model name for reports: "linear-theta", "linear-theta2", "linear-1-cos", plus "+ab"; without
   /// the range term "intensity-theta" (and so on) with the AB term, "offset-theta" without.
   std::string Name() const;
+  /// The same bias re-expressed at other reference conditions: C1 becomes the bias (without the
+  /// cyclic error) at theta_ref, AB_ref and d = 0; C2, C3 and C4 stay. Exact for every form.
+  DepthErrorModel WithReferences(double theta_reference_rad, double ab_reference) const;
   /// Throws std::invalid_argument on non-finite coefficients, C2 <= -1, C2 != 0 without the range
-  /// term or AB_ref <= 0.
+  /// term, AB_ref <= 0 or theta_ref outside [0, pi/2].
   void Check() const;
 };
 

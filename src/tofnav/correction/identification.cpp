@@ -5,9 +5,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 #include "tofnav/core/parallel_for.hpp"
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/correction/joint_correctness.hpp"
 
 namespace tofnav {
@@ -196,6 +198,28 @@ Eigen::VectorXd Flatten(const Evaluation& e) {
   return r;
 }
 
+// `start` at the median incidence and AB of the frames' head samples (the marker patches' head
+// neighbours where no frame has head samples): where its C1 is well determined.
+DepthErrorModel AtSampleCentre(std::span<const IdentificationFrame> frames,
+                               const DepthErrorModel& start) {
+  std::vector<double> theta, ab;
+  auto add = [&](const SurfaceSample& s) {
+    if (std::isfinite(s.incidence_rad)) theta.push_back(s.incidence_rad);
+    if (std::isfinite(s.ab) && s.ab > 0.0f) ab.push_back(s.ab);
+  };
+  for (const IdentificationFrame& f : frames) std::ranges::for_each(f.head, add);
+  if (theta.empty()) {
+    for (const IdentificationFrame& f : frames) {
+      for (const MarkerPatch& p : f.markers) std::ranges::for_each(p.neighbours, add);
+    }
+  }
+  if (theta.empty()) return start;
+  const double theta_ref = std::clamp(Median(theta), 0.0, 0.5 * std::numbers::pi);
+  const double ab_ref =
+      start.use_intensity && !ab.empty() ? std::max(Median(ab), 1.0) : start.ab_reference;
+  return start.WithReferences(theta_ref, ab_ref);
+}
+
 struct Fit {
   DepthErrorModel model;  // coefficients only (no report)
   LevenbergMarquardtResult lm;
@@ -307,7 +331,8 @@ DepthErrorModel IdentifyDepthModel(std::span<const IdentificationFrame> frames,
             ? "IdentifyDepthModel: every marker patch was screened out as foreground"
             : "IdentifyDepthModel: no frame has a marker with head around it");
   }
-  Fit fit = FitOnce(screened, target, start, options);
+  Fit fit = FitOnce(screened, target,
+                    options.centre_references ? AtSampleCentre(screened, start) : start, options);
   const double initial_cost = fit.lm.initial_cost;
   int evaluations = fit.lm.evaluations, rejected = 0;
   std::vector<std::vector<char>> rejected_flags;

@@ -32,6 +32,11 @@ struct IdentificationOptions {
   /// Frames (evenly chosen among those with a guess) that run an ICP per evaluation for Err_C;
   /// their sum is re-weighted to count as much as all frames' Err_S would.
   int max_correctness_frames = 12;
+  /// Beyond the paper: the start is re-expressed (exactly) at the head samples' median incidence
+  /// and, with the intensity term, median AB before the fit, so that C1 is the bias at the data's
+  /// centre: at theta = 0 and a fixed AB it is an extrapolation that moves with C3 and C4 along
+  /// their collinear direction (docs/correction.md 2.7). false keeps the start's references.
+  bool centre_references = true;
   /// Beyond the paper: after a first fit, drop the markers whose median Eq. (6) distance lies
   /// beyond max(marker_outlier_spreads x 1.4826 MAD, min_marker_outlier_mm) of the others' (not
   /// on the skin: a tool's marker on its plate, a sticker on hair) and fit again.

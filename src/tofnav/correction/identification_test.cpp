@@ -4,9 +4,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "correction_test_scenes.hpp"
+#include "tofnav/core/statistics.hpp"
 
 namespace tofnav {
 namespace {
@@ -50,11 +52,26 @@ TEST(SmoothnessDistances, DecycledRangesChangeNoFigure) {
   check(model);
 }
 
+// The fitted model at the references the truth was written at (theta 0, AB_ref 130): the
+// identification centres its own on the samples (exactly the same bias function).
+DepthErrorModel AtOrigin(const DepthErrorModel& fitted) {
+  return fitted.WithReferences(0.0, DepthErrorModel{}.ab_reference);
+}
+
+// The simulator's nylon in the intensity form: C1 9 mm, C3 2.7 mm/rad, C4 2 mm per ln unit.
+DepthErrorModel NylonIntensityForm() {
+  DepthErrorModel truth = IntensityFormModel();
+  truth.c1_mm = 9.0;
+  truth.c3_mm = 2.7;
+  truth.c4_mm = 2.0;
+  return truth;
+}
+
 TEST(IdentifyDepthModel, SmoothnessOnlyRecoversKnownCoefficients) {
   constexpr double kRelTol = 0.02;  // noise-free: limited by the cubic patch fit
   const std::vector<IdentificationFrame> frames = SphereFrames(TrueModel());
   const DepthErrorModel fitted = IdentifyDepthModel(frames, nullptr, DepthErrorModel{});
-  EXPECT_NEAR(fitted.c1_mm, 2.8, 2.8 * kRelTol);
+  EXPECT_NEAR(AtOrigin(fitted).c1_mm, 2.8, 2.8 * kRelTol);
   EXPECT_NEAR(fitted.c2, 0.010, 0.010 * kRelTol);
   EXPECT_NEAR(fitted.c3_mm, 4.0, 4.0 * kRelTol);
   EXPECT_EQ(fitted.report.costs, "smoothness");
@@ -63,22 +80,48 @@ TEST(IdentifyDepthModel, SmoothnessOnlyRecoversKnownCoefficients) {
   EXPECT_LT(fitted.report.final_cost, 1e-3 * fitted.report.initial_cost);
 }
 
-TEST(IdentifyDepthModel, TheIntensityFormRecoversItsCoefficientsWithC2HeldAtZero) {
+TEST(IdentifyDepthModel, TheIntensityFormRecoversItsCoefficientsAtTheSamplesCentre) {
   constexpr double kRelTol = 0.03;  // noise-free: the cubic patch fit (as above), three terms
-  // The simulator's nylon in the intensity form: C1 9 mm, C3 2.7 mm/rad, C4 2 mm per ln unit.
-  DepthErrorModel truth = IntensityFormModel();
-  truth.c1_mm = 9.0;
-  truth.c3_mm = 2.7;
-  truth.c4_mm = 2.0;
+  const DepthErrorModel truth = NylonIntensityForm();
   const std::vector<IdentificationFrame> frames = SphereFrames(truth, /*lambertian_ab=*/true);
   const DepthErrorModel fitted = IdentifyDepthModel(frames, nullptr, IntensityFormModel());
   EXPECT_EQ(fitted.Name(), "intensity-theta");
   EXPECT_EQ(fitted.c2, 0.0);
-  EXPECT_NEAR(fitted.c1_mm, 9.0, 9.0 * kRelTol);
+  EXPECT_NEAR(AtOrigin(fitted).c1_mm, 9.0, 9.0 * kRelTol);
   EXPECT_NEAR(fitted.c3_mm, 2.7, 2.7 * kRelTol);
   EXPECT_NEAR(fitted.c4_mm, 2.0, 2.0 * kRelTol);
   EXPECT_EQ(fitted.report.standard_errors.size(), 3u);  // C1, C3, C4: C2 is not a parameter
   EXPECT_LT(fitted.report.final_cost, 1e-3 * fitted.report.initial_cost);
+  // C1 is the bias at the head samples' median theta and AB (docs/correction.md 2.7); the
+  // uncentred fit gives the same bias function with C1 at theta 0, AB 130.
+  constexpr double kBiasTolMm = 0.05;  // two noise-free fits of the same cost
+  std::vector<double> theta, ab;       // the head samples, else the markers' neighbours
+  auto add = [&](const SurfaceSample& x) {
+    if (std::isfinite(x.incidence_rad)) theta.push_back(x.incidence_rad);
+    if (std::isfinite(x.ab) && x.ab > 0.0f) ab.push_back(x.ab);
+  };
+  for (const IdentificationFrame& f : frames) std::ranges::for_each(f.head, add);
+  const bool heads = !theta.empty();
+  for (const IdentificationFrame& f : frames) {
+    for (const MarkerPatch& p : f.markers) {
+      if (!heads) std::ranges::for_each(p.neighbours, add);
+    }
+  }
+  ASSERT_FALSE(theta.empty());
+  EXPECT_DOUBLE_EQ(fitted.theta_reference_rad, Median(theta));
+  EXPECT_DOUBLE_EQ(fitted.ab_reference, Median(ab));
+  EXPECT_NEAR(fitted.c1_mm, truth.BiasMm(0.0, Median(theta), Median(ab)), kBiasTolMm);
+  IdentificationOptions uncentred;
+  uncentred.centre_references = false;
+  const DepthErrorModel plain =
+      IdentifyDepthModel(frames, nullptr, IntensityFormModel(), uncentred);
+  EXPECT_EQ(plain.theta_reference_rad, 0.0);
+  EXPECT_EQ(plain.ab_reference, 130.0);
+  for (double t : {0.1, 0.6, 1.1}) {
+    for (double a : {50.0, 300.0}) {
+      EXPECT_NEAR(fitted.BiasMm(400.0, t, a), plain.BiasMm(400.0, t, a), kBiasTolMm);
+    }
+  }
 }
 
 TEST(IdentifyDepthModel, FitsTheSensorsCyclicErrorWithTheCoefficients) {
@@ -86,10 +129,7 @@ TEST(IdentifyDepthModel, FitsTheSensorsCyclicErrorWithTheCoefficients) {
   constexpr double kPhaseTolRad = 0.01;
   constexpr double kC1TolMm = 0.05;
   constexpr double kPeriodMm = 1055.0 / 3.0;  // the simulated sensor's L / 3
-  DepthErrorModel truth = IntensityFormModel();
-  truth.c1_mm = 9.0;
-  truth.c3_mm = 2.7;
-  truth.c4_mm = 2.0;
+  DepthErrorModel truth = NylonIntensityForm();
   truth.cyclic = {1.0, kPeriodMm, 0.5};
   // Nine views from 350 to 750 mm: the wiggle's 1.1 periods seen by the stickers' neighbours.
   std::vector<IdentificationFrame> frames;
@@ -104,7 +144,7 @@ TEST(IdentifyDepthModel, FitsTheSensorsCyclicErrorWithTheCoefficients) {
   EXPECT_NEAR(fitted.cyclic.amplitude_mm, 1.0, kAmplitudeTolMm);
   EXPECT_NEAR(fitted.cyclic.phase_rad, 0.5, kPhaseTolRad);
   EXPECT_DOUBLE_EQ(fitted.cyclic.period_mm, kPeriodMm);
-  EXPECT_NEAR(fitted.c1_mm, 9.0, kC1TolMm);
+  EXPECT_NEAR(AtOrigin(fitted).c1_mm, 9.0, kC1TolMm);
   EXPECT_EQ(fitted.report.standard_errors.size(), 5u);  // C1, C3, C4, then A cos phi, A sin phi
   // Held at none, the coefficients absorb what they can of the wiggle and leave the rest.
   const DepthErrorModel held = IdentifyDepthModel(frames, nullptr, IntensityFormModel());
@@ -122,7 +162,7 @@ TEST(IdentifyDepthModel, LeavesOutMarkersThatAreNotOnTheSkin) {
     frames[f].markers.push_back(unbiased[f].markers[0]);
   const DepthErrorModel fitted = IdentifyDepthModel(frames, nullptr, DepthErrorModel{});
   EXPECT_EQ(fitted.report.marker_observations_rejected, static_cast<int>(frames.size()));
-  EXPECT_NEAR(fitted.c1_mm, 2.8, 2.8 * kRelTol);
+  EXPECT_NEAR(AtOrigin(fitted).c1_mm, 2.8, 2.8 * kRelTol);
   EXPECT_NEAR(fitted.c2, 0.010, 0.010 * kRelTol);
   EXPECT_NEAR(fitted.c3_mm, 4.0, 4.0 * kRelTol);
   // Kept, they pull the fit off (the Huber loss bounds each one's pull, not its direction).
@@ -130,7 +170,7 @@ TEST(IdentifyDepthModel, LeavesOutMarkersThatAreNotOnTheSkin) {
   keep.reject_outlier_markers = false;
   const DepthErrorModel pulled = IdentifyDepthModel(frames, nullptr, DepthErrorModel{}, keep);
   EXPECT_EQ(pulled.report.marker_observations_rejected, 0);
-  EXPECT_GT(std::abs(pulled.c1_mm - 2.8) / 2.8 + std::abs(pulled.c2 - 0.010) / 0.010 +
+  EXPECT_GT(std::abs(AtOrigin(pulled).c1_mm - 2.8) / 2.8 + std::abs(pulled.c2 - 0.010) / 0.010 +
                 std::abs(pulled.c3_mm - 4.0) / 4.0,
             5.0 * kRelTol);
 }

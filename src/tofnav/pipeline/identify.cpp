@@ -115,9 +115,12 @@ void AppendSubsetStarts(std::span<const IdentificationFrame> frames,
     } catch (const std::invalid_argument&) {
       continue;  // no marker patch left in this subset
     }
+    // C1 at the first stage-1 model's references (each fit centres its own: docs/correction.md
+    // 2.7), so that the candidates compare.
+    const DepthErrorModel& first = starts.front();
     candidates.push_back(
         {"stage 1 without frames " + std::to_string(k) + " mod " + std::to_string(n), true,
-         starts.back().c1_mm});
+         starts.back().WithReferences(first.theta_reference_rad, first.ab_reference).c1_mm});
   }
 }
 
@@ -218,8 +221,10 @@ IdentifyRecordingResult IdentifyFromRecording(
     // (docs/correction.md 2.3).
     const auto t0 = std::chrono::steady_clock::now();
     std::vector<DepthErrorModel> starts = {model, options.start};
-    result.placement_candidates = {{"stage-1 model", false, model.c1_mm},
-                                   {"start model", false, options.start.c1_mm}};
+    result.placement_candidates = {
+        {"stage-1 model", false, model.c1_mm},
+        {"start model", false,
+         options.start.WithReferences(model.theta_reference_rad, model.ab_reference).c1_mm}};
     AppendSubsetStarts(frames, options, starts, result.placement_candidates);
     BestStartPlacement placement = InitialImageFromBestStart(frames, *skin, starts);
     for (std::size_t i = 0; i < starts.size(); ++i)

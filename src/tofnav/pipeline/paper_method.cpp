@@ -44,6 +44,7 @@ void UsePaperIdentification(IdentifyRecordingOptions& options) {
   IdentificationOptions& fit = options.identification;
   fit.huber_scale_mm = 0.0;  // Eq. (7) is a plain sum of squares
   fit.reject_outlier_markers = false;
+  fit.centre_references = false;  // C1 at theta = 0, as Eq. (3) writes it
   fit.foreground.enabled = false;
   fit.head_surface_weight = 0.0;
   fit.fit_cyclic_period_mm = 0.0;
