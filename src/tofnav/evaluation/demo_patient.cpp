@@ -154,6 +154,7 @@ DemoJson IdentificationStability(const DemoContext& ctx, const AhatRecording& re
                     {"C2", m.c2},
                     {"C3_mm_per_rad", m.c3_mm},
                     {"C4_mm", m.c4_mm},
+                    {"cyclic_error", CyclicErrorToJson(m.cyclic)},
                     {"C1_change_mm", m.c1_mm - full.model.c1_mm},
                     {"C1_at_theta0_ab130_change_mm", c1_origin_change_mm},
                     {"head_after_median_change_mm", head_change_mm}});
