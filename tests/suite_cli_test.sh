@@ -68,6 +68,28 @@ if all(r["ok"] for r in out["rows"]):
     assert s["stability_c1_mm"]["worst"] == max(r["stability_c1_mm"] for r in out["rows"]), s
 print("suite --seeds 2:", {k: s[k] for k in ["cases", "cases_meeting_every_line"]})
 PY
+# --stages tracking: the marker stage, the session and the tracking only; the row's acceptance has
+# the tracking lines alone. An unknown stage is refused with the known ones.
+"$tofnav" evaluate suite smoke --stages tracking --frames-scale 0.05 --out "$scratch/stages" \
+  --json -q >"$scratch/stages.json"
+/usr/bin/python3 - "$scratch/stages.json" <<'PY'
+import json, sys
+row = json.load(open(sys.argv[1]))["rows"][0]
+assert row["ok"], row["error"]
+assert row["stages_run"] == ["marker_error", "session", "tracking"], row["stages_run"]
+assert sorted(row["stages"]) == ["marker_error", "session", "tracking"], list(row["stages"])
+assert [l["figure"] for l in row["acceptance"]] == ["tracking_mm", "tracking_deg"], row["acceptance"]
+assert 0.0 < row["tracking_mm"] <= 1.0, row["tracking_mm"]  # TRACKING_MM above
+PY
+if "$tofnav" evaluate suite smoke --stages trackign --out "$scratch/bad" 2>"$scratch/err"; then
+  echo "an unknown stage was accepted" >&2
+  exit 1
+fi
+grep -q "^tofnav evaluate suite: --stages: unknown stage 'trackign' (stages: marker_error, " \
+  "$scratch/err" || {
+  cat "$scratch/err" >&2
+  exit 1
+}
 # A bad suite file: the file and the JSON path of the bad key.
 printf '{"format": "tofnav-suite", "cases": [{"name": "a", "tools": "wands"}]}' >"$scratch/bad.json"
 if "$tofnav" evaluate suite "$scratch/bad.json" --out "$scratch/bad" 2>"$scratch/err"; then

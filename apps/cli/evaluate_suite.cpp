@@ -17,6 +17,7 @@
 #include "method_option.hpp"
 #include "profile_option.hpp"
 #include "tofnav/core/statistics.hpp"
+#include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/evaluation/suite_case.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/report/suite_report.hpp"
@@ -70,7 +71,11 @@ SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
       }
     }
     if (values.empty()) continue;
-    summary[key] = {{"median", Median(values)}, {"worst", Max(values)}};
+    // "best": with "worst", a case's range over seeds (issue 40: the tracking filter's RMS
+    // between seeds of one case).
+    summary[key] = {{"median", Median(values)},
+                    {"worst", Max(values)},
+                    {"best", *std::min_element(values.begin(), values.end())}};
   }
   for (const SuiteJson& r : rows) {
     if (!r.at("ok").get<bool>()) ++failed;
@@ -114,16 +119,25 @@ std::string MedianWorst(const SuiteJson& summary, const char* key, int decimals)
 
 void PrintSpread(const SuiteJson& spread, std::size_t seeds) {
   std::printf("\nspread over %zu seeds per case (median/worst):\n", seeds);
-  std::printf("%-24s %5s %11s %11s %11s %11s %11s %11s\n", "case", "met", "track mm", "recon mm",
-              ">3mm %", "TRE mm", "entry mm", "angle deg");
+  std::printf("%-24s %5s %11s %6s %11s %11s %11s %11s %11s\n", "case", "met", "track mm", "range",
+              "recon mm", ">3mm %", "TRE mm", "entry mm", "angle deg");
   for (const auto& [name, s] : spread.items()) {
     const std::string met = std::to_string(s["cases_meeting_every_line"].get<std::size_t>()) + "/" +
                             std::to_string(s["cases"].get<std::size_t>());
-    std::printf(
-        "%-24s %5s %11s %11s %11s %11s %11s %11s\n", name.c_str(), met.c_str(),
-        MedianWorst(s, "tracking_mm", 2).c_str(), MedianWorst(s, "reconstruction_mm", 3).c_str(),
-        MedianWorst(s, "beyond_3mm_percent", 2).c_str(), MedianWorst(s, "true_tre_mm", 2).c_str(),
-        MedianWorst(s, "entry_mm", 2).c_str(), MedianWorst(s, "angle_deg", 2).c_str());
+    std::string range = "-";
+    if (s.contains("tracking_mm")) {
+      char text[16];
+      std::snprintf(
+          text, sizeof text, "%.3f",
+          s["tracking_mm"]["worst"].get<double>() - s["tracking_mm"]["best"].get<double>());
+      range = text;
+    }
+    std::printf("%-24s %5s %11s %6s %11s %11s %11s %11s %11s\n", name.c_str(), met.c_str(),
+                MedianWorst(s, "tracking_mm", 2).c_str(), range.c_str(),
+                MedianWorst(s, "reconstruction_mm", 3).c_str(),
+                MedianWorst(s, "beyond_3mm_percent", 2).c_str(),
+                MedianWorst(s, "true_tre_mm", 2).c_str(), MedianWorst(s, "entry_mm", 2).c_str(),
+                MedianWorst(s, "angle_deg", 2).c_str());
   }
 }
 
@@ -143,6 +157,7 @@ int RunEvaluateSuite(int argc, char** argv) {
   std::size_t seeds = 1;
   int stability_subsets = 0;
   std::uint64_t seed_offset = 0;
+  std::vector<std::string> stages;
   app.add_option("suite", suite_name, "suite file, or a built-in: default, smoke")->required();
   app.add_option("--out", out, "output folder: one folder per case, suite.json, suite.html");
   app.add_option("--only", only, "run only these cases (repeatable)");
@@ -158,6 +173,10 @@ int RunEvaluateSuite(int argc, char** argv) {
                  "per case, identify again N times (0-10) without another tenth of the frames: "
                  "the largest C1 and head-median changes (docs/correction.md 2.4)")
       ->check(CLI::Range(0, 10));
+  app.add_option("--stages", stages,
+                 "run only these stages and those they need (marker_error, session, depth, "
+                 "reconstruction, registration, tracking, guidance; e.g. tracking: 20 s a run); "
+                 "the rows' acceptance then has those stages' lines");
   app.add_flag("--json", json, "print suite.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no per-case progress lines on stderr");
   std::string profile = "raw";
@@ -167,6 +186,12 @@ int RunEvaluateSuite(int argc, char** argv) {
   AddMethodOption(app, run_options.method);
   TOFNAV_PARSE(app, argc, argv);
   const Hl2ssStreamProfile stream_profile = *ParseHl2ssStreamProfile(profile);
+  try {
+    run_options.stages = DemoStagesWithPrerequisites(stages);
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "tofnav evaluate suite: --stages: " << e.what() << "\n";
+    return EXIT_FAILURE;
+  }
   const std::filesystem::path path = SuitePath(suite_name);
   const SuiteFile suite = ReadSuiteFile(path);
   const double scale = frames_scale.value_or(suite.frames_scale);

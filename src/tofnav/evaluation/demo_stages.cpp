@@ -5,9 +5,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <iostream>
+#include <stdexcept>
 
 #include "tofnav/imaging/skin.hpp"
 #include "tofnav/scenario/patient_head.hpp"
@@ -70,7 +72,7 @@ DemoJson RunStagesFrom(DemoContext& ctx, std::string_view first,
   bool started = false;
   for (const DemoStage& s : kDemoStages) {
     started = started || first == s.name;
-    if (!started) continue;
+    if (!started || (!ctx.stages.empty() && !ctx.stages.count(s.name))) continue;
     DemoJson stage{{"ok", true}, {"error", ""}, {"elapsed_s", 0.0}};
     const auto stage_start = std::chrono::steady_clock::now();
     try {
@@ -97,7 +99,40 @@ DemoJson RunStagesFrom(DemoContext& ctx, std::string_view first,
   return all;
 }
 
+// The stages each stage reads the results of (DemoContext's fields).
+std::vector<std::string> Prerequisites(const std::string& stage) {
+  if (stage == "depth" || stage == "tracking") return {"marker_error", "session"};
+  if (stage == "reconstruction") return {"depth"};
+  if (stage == "registration") return {"reconstruction"};
+  if (stage == "guidance") return {"registration", "tracking"};
+  return {};
+}
+
 }  // namespace
+
+std::vector<std::string> DemoStageNames() {
+  std::vector<std::string> names;
+  for (const DemoStage& s : kDemoStages) names.emplace_back(s.name);
+  return names;
+}
+
+std::set<std::string> DemoStagesWithPrerequisites(std::span<const std::string> wanted) {
+  const std::vector<std::string> known = DemoStageNames();
+  std::set<std::string> stages;
+  std::vector<std::string> open(wanted.begin(), wanted.end());
+  while (!open.empty()) {
+    const std::string stage = open.back();
+    open.pop_back();
+    if (std::find(known.begin(), known.end(), stage) == known.end()) {
+      std::string list;
+      for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+      throw std::invalid_argument("unknown stage '" + stage + "' (stages: " + list + ")");
+    }
+    if (!stages.insert(stage).second) continue;
+    for (std::string& p : Prerequisites(stage)) open.push_back(std::move(p));
+  }
+  return stages;
+}
 
 DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stage) {
   return RunStagesFrom(ctx, kDemoStages[0].name, after_stage);

@@ -6,6 +6,8 @@
 #include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -42,6 +44,8 @@ struct DemoContext {
   /// The method of the stages after the session: tofnav's, or the paper's as published
   /// (pipeline/paper_method.hpp; its registration starts from a seeded hand placement).
   Method method = Method::kTofnav;
+  /// The stages to run (DemoStagesWithPrerequisites); empty: every stage.
+  std::set<std::string> stages;
   std::function<void(const std::string&, std::size_t, std::size_t)> progress;
   /// The hl2ss profile every simulated recording is written in (the stream the pipeline reads):
   /// SAME+RAW by default; H.264/H.265 at `bitrate_bps` (unset: the hl2ss client's default).
@@ -95,12 +99,21 @@ void RunDemoRegistration(DemoContext& ctx, DemoJson& stage);
 void RunDemoTracking(DemoContext& ctx, DemoJson& stage);
 void RunDemoGuidance(DemoContext& ctx, DemoJson& stage);
 
+/// The stages' names in the order they run: marker_error, session, depth, reconstruction,
+/// registration, tracking, guidance.
+std::vector<std::string> DemoStageNames();
+/// `wanted` and every stage they need (tracking: marker_error and session; depth: those too;
+/// reconstruction: depth; registration: reconstruction; guidance: registration and tracking).
+/// Throws std::invalid_argument naming an unknown stage and the known ones.
+std::set<std::string> DemoStagesWithPrerequisites(std::span<const std::string> wanted);
+
 /// The frame counts of a run at `scale` (1: the default, <= 90 s on the 2-core machine).
 void ScaleDemoFrames(DemoContext& ctx, double scale);
 
-/// Runs every stage in order (a failed stage is recorded and the next ones run with what they
-/// have): {"name": {"ok", "error", "elapsed_s", figures...}, ...}. The head is loaded first
-/// when ctx.patient_head is unset.
+/// Runs every stage in order, or those in ctx.stages (a failed stage is recorded and the next
+/// ones run with what they have; a stage not asked for is left out of the result):
+/// {"name": {"ok", "error", "elapsed_s", figures...}, ...}. The head is loaded first when
+/// ctx.patient_head is unset.
 DemoJson RunDemoStages(DemoContext& ctx, const std::function<void()>& after_stage = {});
 
 /// The stages after the session again, on the same session, with the paper's method as

@@ -130,6 +130,8 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
   ctx.bitrate_bps = options.bitrate_bps;
   ctx.stability_subsets = options.stability_subsets;
   ctx.method = options.method;
+  ctx.stages = options.stages;
+  if (!options.stages.empty()) row["stages_run"] = options.stages;
   ctx.progress = [](const std::string&, std::size_t, std::size_t) {};
   ScaleDemoFrames(ctx, options.frames_scale);
   try {
@@ -190,10 +192,24 @@ SuiteJson SuiteAcceptance(const SuiteJson& row) {
     const bool met = !std::isnan(v) && (op[0] == '<' ? v <= limit : v >= limit);
     return SuiteJson{{"figure", figure}, {"value", v}, {"op", op}, {"limit", limit}, {"met", met}};
   };
-  SuiteJson lines = SuiteJson::array(
-      {line("tracking_mm", "<=", 0.30), line("tracking_deg", "<=", 0.35),
-       line("reconstruction_mm", "<=", 0.40), line("beyond_3mm_percent", "<=", 1.0),
-       line("entry_mm", "<=", 1.2), line("angle_deg", "<=", 1.0)});
+  const auto ran = [&](const char* stage) {
+    const SuiteJson& run = At(row, "stages_run");
+    return !run.is_array() || std::find(run.begin(), run.end(), stage) != run.end();
+  };
+  SuiteJson lines = SuiteJson::array();
+  if (ran("tracking")) {
+    lines.push_back(line("tracking_mm", "<=", 0.30));
+    lines.push_back(line("tracking_deg", "<=", 0.35));
+  }
+  if (ran("reconstruction")) {
+    lines.push_back(line("reconstruction_mm", "<=", 0.40));
+    lines.push_back(line("beyond_3mm_percent", "<=", 1.0));
+  }
+  if (ran("guidance")) {
+    lines.push_back(line("entry_mm", "<=", 1.2));
+    lines.push_back(line("angle_deg", "<=", 1.0));
+  }
+  if (!ran("registration")) return lines;
   const bool accepted = At(row, "registration") == "accepted";
   lines.push_back({{"figure", "registration accepted"},
                    {"value", accepted ? 1.0 : 0.0},

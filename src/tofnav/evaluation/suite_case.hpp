@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -57,6 +58,9 @@ struct SuiteRunOptions {
   /// changes go in the row as stability_c1_mm and stability_head_mm.
   int stability_subsets = 0;
   Method method = Method::kTofnav;  // the stages after the session: tofnav's or the paper's
+  /// The stages to run, prerequisites included (DemoStagesWithPrerequisites); empty: all. The
+  /// row then carries them as "stages_run" and its acceptance only the lines of those stages.
+  std::set<std::string> stages;
 };
 
 /// Simulates and runs the case's sessions through the whole pipeline under `dir` (the demo's
@@ -65,7 +69,7 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
                        const SuiteRunOptions& options);
 
 /// The acceptance lines of the outlier-proof pipeline (docs/suite.md) for one row: each
-/// {figure, value, op, limit, met}.
+/// {figure, value, op, limit, met}; where the row has "stages_run", the lines of those stages.
 SuiteJson SuiteAcceptance(const SuiteJson& row);
 
 }  // namespace tofnav
