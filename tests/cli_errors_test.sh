@@ -49,6 +49,8 @@ expect_failure "not an AHAT recording" tool-define "$scratch/random.bin" --out "
 printf 'frame,tool\n1,a\n' >"$scratch/bad_poses.csv"
 expect_failure "bad_poses.csv" evaluate tracking "$scratch/bad_poses.csv" --truth "$scratch/missing.json"
 expect_failure "unknown evaluator" evaluate no-such-thing
+expect_failure "--cyclic-period-mm and --plate-radius-mm go together" fit-marker-error \
+  "$scratch/random.bin" --tool "$scratch/pair.json" --out "$scratch/f.json" --cyclic-period-mm 351.7
 expect_failure "--smoothing" fit-marker-error "$scratch/random.bin" --tool "$scratch/pair.json" --out "$scratch/f.json" --smoothing abc
 printf '{"format": "tofnav-marker-range-error", "knots_mm": [2, 1]}' >"$scratch/frf.json"
 printf '{"name": "tri", "markers": [[0, 0, 0], [50, 0, 0], [0, 60, 0]]}' >"$scratch/tri.json"

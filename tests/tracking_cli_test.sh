@@ -17,7 +17,18 @@ stage=$tests_dir/scenarios/fast_stage.json
 "$tofnav" simulate "$stage" --out "$scratch/stage" -q >/dev/null
 "$tofnav" fit-marker-error "$scratch/stage/rm_depth_ahat.bin" \
   --calibration "$scratch/stage/calibration" --tool "$scratch/stage/tools/tape_structure.json" \
-  --speed-mm-s 80 --out "$scratch/frf.json" -q >/dev/null
+  --speed-mm-s 80 --cyclic-period-mm 351.66666666666667 --plate-radius-mm 70 \
+  --out "$scratch/frf.json" -q >/dev/null
+# The sensor's cyclic error measured on the PLA plate around the tape (docs/correction.md 2.8)
+# against the simulator's (1 mm, 3.5 rad): 1.04 mm, +0.09 rad seen; the plate's own terms and the
+# phase range leave about that, a wrong sign or period gives 1+ rad.
+"$python" - "$scratch/frf.json" <<'PY'
+import json, math, sys
+c = json.load(open(sys.argv[1]))["cyclic_error"]
+assert abs(c["amplitude_mm"] - 1.0) <= 0.2, c
+assert abs(math.remainder(c["phase_rad"] - 3.5, 2 * math.pi)) <= 0.3, c
+assert c["plate_samples"] > 10000 and c["span_mm"] > 350.0, c
+PY
 "$tofnav" simulate "$stage" --seed 2 --out "$scratch/check" -q >/dev/null
 "$tofnav" track "$scratch/check/rm_depth_ahat.bin" --calibration "$scratch/check/calibration" \
   --tool "$scratch/check/tools/tape_structure.json" --marker-error "$scratch/frf.json" \

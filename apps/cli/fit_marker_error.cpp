@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: BSD-3-Clause
 // tofnav fit-marker-error: f_rf (paper Eq. 1) from linear-stage recordings (Sec. III-A.1).
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -10,15 +11,55 @@
 #include "config_json.hpp"
 #include "marker_source.hpp"
 #include "progress.hpp"
+#include "tofnav/casefile/depth_model_json.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/pipeline/marker_tasks.hpp"
+#include "tofnav/pipeline/stage_cyclic_error.hpp"
 #include "tofnav/recording/open_recording.hpp"
 
 namespace tofnav {
 
 using OrderedJson = nlohmann::ordered_json;
+
+namespace {
+
+// The sensor's cyclic error from the plate of every recording's runs (runs numbered on across
+// recordings, each its own offset), against the tape's plane through f_rf.
+StageCyclicErrorInfo MeasureStageCyclicError(const std::vector<std::filesystem::path>& recordings,
+                                             MarkerSourceArgs source_args,
+                                             const ToolGeometry& structure,
+                                             const MarkerRangeModel& frf,
+                                             const PlateSampleOptions& plate, double period_mm,
+                                             bool quiet) {
+  std::vector<PlateRangeSample> samples;
+  int runs = 0;
+  for (const std::filesystem::path& recording : recordings) {
+    source_args.recording = recording;
+    const MarkerSource source = OpenMarkerSource(source_args);
+    ProgressBar progress("plate " + recording.filename().string(), quiet);
+    std::vector<PlateRangeSample> more = CollectPlateSamples(
+        source, source_args.detection, structure, frf, plate,
+        [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+    int last = -1;
+    for (PlateRangeSample& s : more) {
+      last = std::max(last, s.run);
+      s.run += runs;
+    }
+    runs += last + 1;
+    samples.insert(samples.end(), more.begin(), more.end());
+  }
+  try {
+    const PlateCyclicFit fit = FitPlateCyclicError(samples, period_mm);
+    return {fit.cyclic, fit.amplitude_sd_mm, fit.phase_sd_rad, static_cast<int>(fit.samples),
+            fit.span_mm};
+  } catch (const std::invalid_argument& e) {
+    throw std::runtime_error(std::string("--cyclic-period-mm: ") + e.what());
+  }
+}
+
+}  // namespace
 
 int RunFitMarkerError(int argc, char** argv) {
   CLI::App app{
@@ -55,9 +96,24 @@ int RunFitMarkerError(int argc, char** argv) {
   app.add_flag("--range-only", range_only,
                "f_rf of the range alone, Eq. (1) as published (default: with the tape's "
                "entrance-angle term when the runs' tilts span 10 deg; docs/tracking.md 4)");
+  double cyclic_period_mm = 0.0;
+  PlateSampleOptions plate;
+  app.add_option("--cyclic-period-mm", cyclic_period_mm,
+                 "also measure the sensor's cyclic range error at this period (L / 3 = "
+                 "351.66666666666667 for AHAT's 142 MHz) on the plate the tape sits on, against "
+                 "the f_rf-corrected tape's plane; identify holds it (docs/correction.md 2.8); 0: "
+                 "not measured")
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--plate-radius-mm", plate.plate_radius_mm,
+                 "with --cyclic-period-mm: the largest disc around the markers' centroid, in their "
+                 "plane, that the plate covers [mm]")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
   TOFNAV_PARSE(app, argc, argv);
+  if ((cyclic_period_mm > 0.0) != (plate.plate_radius_mm > 0.0)) {
+    throw std::runtime_error("--cyclic-period-mm and --plate-radius-mm go together");
+  }
 
   SmoothingSplineOptions spline_options;
   if (smoothing != "gcv") {
@@ -101,6 +157,11 @@ int RunFitMarkerError(int argc, char** argv) {
   MarkerRangeFile file{fit.model,
                        {static_cast<int>(samples.size()), frames_used, fit.rms_residual_mm,
                         fit.fit.effective_dof, spline_options.smoothing_p ? "given" : "gcv"}};
+  if (cyclic_period_mm > 0.0) {
+    plate.split_jump_mm = jump_mm;
+    file.cyclic_error = MeasureStageCyclicError(recordings, source_args, structure, fit.model,
+                                                plate, cyclic_period_mm, quiet || json);
+  }
   WriteMarkerRangeJson(out_path, file);
 
   OrderedJson curve = OrderedJson::array();
@@ -114,6 +175,12 @@ int RunFitMarkerError(int argc, char** argv) {
                       {"entrance_gain_mm_per_rad", fit.model.entrance_gain_mm_per_rad},
                       {"f_rf_mm", curve},
                       {"runs", runs_json}};
+  if (file.cyclic_error) {
+    summary["cyclic_error"] = CyclicErrorToJson(file.cyclic_error->cyclic);
+    summary["cyclic_error"]["amplitude_sd_mm"] = file.cyclic_error->amplitude_sd_mm;
+    summary["cyclic_error"]["phase_sd_rad"] = file.cyclic_error->phase_sd_rad;
+    summary["cyclic_error"]["plate_samples"] = file.cyclic_error->plate_samples;
+  }
   if (json) {
     std::cout << WithOptions(summary, app).dump(2) << "\n";
     return EXIT_SUCCESS;
@@ -125,6 +192,12 @@ int RunFitMarkerError(int argc, char** argv) {
             << "\n  f_rf [mm]:";
   for (const auto& c : curve) std::cout << " " << c[0].get<double>() << ": " << c[1].get<double>();
   std::cout << "\n";
+  if (const auto& c = file.cyclic_error) {
+    std::cout << "  cyclic error (the plate, " << c->plate_samples << " pixels over " << c->span_mm
+              << " mm): " << c->cyclic.amplitude_mm << " +- " << c->amplitude_sd_mm
+              << " mm at period " << c->cyclic.period_mm << " mm, phase " << c->cyclic.phase_rad
+              << " +- " << c->phase_sd_rad << " rad\n";
+  }
   for (const auto& run : runs_json) {
     std::cout << "  " << run["recording"].get<std::string>() << " run " << run["run"] << ": "
               << run["frames"] << " frames";

@@ -183,7 +183,12 @@ int RunIdentify(int argc, char** argv) {
   const std::unique_ptr<AhatRecording> recording = OpenAhatRecording(recording_path);
   RefuseLossyDepth(*recording, recording_path, allow_lossy_depth);
   std::optional<MarkerRangeModel> frf;
-  if (!frf_path.empty()) frf = ReadMarkerRangeJson(frf_path).model;
+  std::optional<StageCyclicErrorInfo> stage_cyclic;  // measured on the stage's plate, if it was
+  if (!frf_path.empty()) {
+    MarkerRangeFile file = ReadMarkerRangeJson(frf_path);
+    frf = file.model;
+    stage_cyclic = file.cyclic_error;
+  }
   DepthErrorModel start;
   start.angle_term = ParseAngleTerm(angle_term);
   start.use_intensity = form != "paper";
@@ -204,6 +209,11 @@ int RunIdentify(int argc, char** argv) {
     start.cyclic = {cyclic_values[0], cyclic_values[1], cyclic_values[2]};
     start.cyclic.Check();
   }
+  // The device's cyclic error, measured on the f_rf stage's plate, is held unless the command
+  // line gives or fits one (docs/correction.md 2.8).
+  const bool cyclic_from_stage = stage_cyclic && cyclic_values.empty() &&
+                                 options.fit_cyclic_period_mm == 0.0 && method != Method::kPaper;
+  if (cyclic_from_stage) start.cyclic = stage_cyclic->cyclic;
 
   std::optional<SurfaceIndex> skin;
   if (!ct_path.empty()) skin.emplace(SkinIsoSurface(ReadVolume(ct_path), iso_hu));
@@ -258,6 +268,7 @@ int RunIdentify(int argc, char** argv) {
                                {"multipath_removed", m.multipath.enabled},
                                {"frames", m.report.frames_used}};
     out["cyclic_error"]["fitted"] = options.fit_cyclic_period_mm > 0.0;
+    out["cyclic_error"]["measured_on_stage"] = cyclic_from_stage;
     out.update(LeftOutToJson(m.report));
     nlohmann::ordered_json tools = nlohmann::ordered_json::object();
     for (const auto& [name, count] : result.tool_marker_observations_left_out) tools[name] = count;
@@ -286,7 +297,10 @@ int RunIdentify(int argc, char** argv) {
   if (m.cyclic.enabled()) {
     std::cout << "  cyclic error " << m.cyclic.amplitude_mm << " mm at period "
               << m.cyclic.period_mm << " mm, phase " << m.cyclic.phase_rad << " rad ("
-              << (options.fit_cyclic_period_mm > 0.0 ? "fitted" : "held fixed")
+              << (options.fit_cyclic_period_mm > 0.0 ? "fitted"
+                  : cyclic_from_stage
+                      ? "held: measured on the stage's plate, docs/correction.md 2.8"
+                      : "held fixed")
               << ", docs/correction.md 2.2)\n";
   }
   std::cout << "  cost " << m.report.initial_cost << " -> " << m.report.final_cost << " mm^2\n"

@@ -285,13 +285,7 @@ DepthModelFile DecodeDepthModelJson(std::string_view text, const Path& path) {
     model.theta_reference_rad = FiniteJsonNumber(*it, path, "theta_reference_rad");
   }
   if (const auto it = m.find("cyclic_error"); it != m.end() && !it->is_null()) {
-    const std::string at = "model.cyclic_error";  // absent in files written before it: off
-    model.cyclic.amplitude_mm =
-        FiniteJsonNumber(Member(*it, "amplitude_mm", path, at), path, at + ".amplitude_mm");
-    model.cyclic.period_mm =
-        FiniteJsonNumber(Member(*it, "period_mm", path, at), path, at + ".period_mm");
-    model.cyclic.phase_rad =
-        FiniteJsonNumber(Member(*it, "phase_rad", path, at), path, at + ".phase_rad");
+    model.cyclic = CyclicErrorFromJson(*it, path, "model.cyclic_error");  // absent: off
   }
   try {
     model.Check();
@@ -357,6 +351,21 @@ OrderedJson CyclicErrorToJson(const CyclicRangeError& cyclic) {
   return {{"amplitude_mm", cyclic.amplitude_mm},
           {"period_mm", cyclic.period_mm},
           {"phase_rad", cyclic.phase_rad}};
+}
+
+CyclicRangeError CyclicErrorFromJson(const OrderedJson& json, const Path& path,
+                                     const std::string& at) {
+  CyclicRangeError cyclic;
+  cyclic.amplitude_mm =
+      FiniteJsonNumber(Member(json, "amplitude_mm", path, at), path, at + ".amplitude_mm");
+  cyclic.period_mm = FiniteJsonNumber(Member(json, "period_mm", path, at), path, at + ".period_mm");
+  cyclic.phase_rad = FiniteJsonNumber(Member(json, "phase_rad", path, at), path, at + ".phase_rad");
+  try {
+    cyclic.Check();
+  } catch (const std::invalid_argument& e) {
+    throw IoError(path, std::nullopt, at + ": " + e.what());
+  }
+  return cyclic;
 }
 
 OrderedJson LeftOutToJson(const DepthModelFitReport& r) {

@@ -37,6 +37,10 @@ void WriteDepthModelJson(const std::filesystem::path& path, const DepthModelFile
 /// The sensor's cyclic error as every report writes it: {"amplitude_mm", "period_mm",
 /// "phase_rad"} (docs/correction.md 2.2).
 nlohmann::ordered_json CyclicErrorToJson(const CyclicRangeError& cyclic);
+/// The inverse, `at` naming the object in errors: IoError on a missing or non-finite member or
+/// an invalid error (CyclicRangeError::Check).
+CyclicRangeError CyclicErrorFromJson(const nlohmann::ordered_json& json,
+                                     const std::filesystem::path& path, const std::string& at);
 
 /// What the identification left out (frames, foreground points, marker observations and each
 /// sticker's counts), as depth_model.json's "fit" and `tofnav identify --json` write it.

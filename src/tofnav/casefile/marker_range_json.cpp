@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <vector>
 
+#include "tofnav/casefile/depth_model_json.hpp"
 #include "tofnav/casefile/json_number.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/io/io_error.hpp"
@@ -69,6 +70,15 @@ std::string EncodeMarkerRangeJson(const MarkerRangeFile& file) {
                      {"rms_residual_mm", file.fit.rms_residual_mm},
                      {"effective_dof", file.fit.effective_dof},
                      {"smoothing", file.fit.smoothing}}}};
+  if (const auto& c = file.cyclic_error) {
+    OrderedJson j = CyclicErrorToJson(c->cyclic);
+    j["amplitude_sd_mm"] = c->amplitude_sd_mm;
+    j["phase_sd_rad"] = c->phase_sd_rad;
+    j["plate_samples"] = c->plate_samples;
+    j["span_mm"] = c->span_mm;
+    j["source"] = "the stage's plate beside the tape (docs/correction.md 2.8)";
+    json["cyclic_error"] = j;
+  }
   return json.dump(2) + "\n";
 }
 
@@ -108,6 +118,16 @@ MarkerRangeFile DecodeMarkerRangeJson(std::string_view text, const std::filesyst
     if (const auto m = fit->find("smoothing"); m != fit->end() && m->is_string()) {
       file.fit.smoothing = m->get<std::string>();
     }
+  }
+  if (const auto c = json.find("cyclic_error"); c != json.end() && !c->is_null()) {
+    StageCyclicErrorInfo info;
+    info.cyclic = CyclicErrorFromJson(*c, path, "cyclic_error");
+    info.amplitude_sd_mm = NumberOr(*c, "amplitude_sd_mm", 0.0, path);
+    info.phase_sd_rad = NumberOr(*c, "phase_sd_rad", 0.0, path);
+    info.plate_samples =
+        static_cast<int>(std::clamp(NumberOr(*c, "plate_samples", 0, path), 0.0, 1e9));
+    info.span_mm = NumberOr(*c, "span_mm", 0.0, path);
+    file.cyclic_error = info;
   }
   return file;
 }

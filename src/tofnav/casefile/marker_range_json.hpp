@@ -3,9 +3,11 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <string_view>
 
+#include "tofnav/correction/depth_error_model.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 
 namespace tofnav {
@@ -20,15 +22,28 @@ struct MarkerRangeFitInfo {
   std::string smoothing = "gcv";  // "gcv" or "given"
 };
 
+/// The sensor's cyclic error measured on the stage's plate beside the tape (docs/correction.md
+/// 2.8): a property of the device, which `identify` holds when the file carries it.
+struct StageCyclicErrorInfo {
+  CyclicRangeError cyclic;
+  double amplitude_sd_mm = 0.0;
+  double phase_sd_rad = 0.0;
+  int plate_samples = 0;
+  double span_mm = 0.0;  // of the plate's ranges
+};
+
 struct MarkerRangeFile {
   MarkerRangeModel model;
   MarkerRangeFitInfo fit;
+  std::optional<StageCyclicErrorInfo> cyclic_error;  // absent unless measured
 };
 
 /// JSON: {"format": "tofnav-marker-range-error", "version": 1, "range_unit": "mm",
 /// "smoothing_p": p, "knots_mm": [...], "bias_mm": [...], "second_derivative_per_mm": [...],
-/// "fit": {...}}. f_rf(d) is the natural cubic spline through (knots_mm, bias_mm) with those
-/// second derivatives, linear outside the knots; correction (Eq. 2) is d' = d - f_rf(d).
+/// "fit": {...}, optionally "cyclic_error": {"amplitude_mm", "period_mm", "phase_rad",
+/// "amplitude_sd_mm", "phase_sd_rad", "plate_samples", "span_mm"}}. f_rf(d) is the natural cubic
+/// spline through (knots_mm, bias_mm) with those second derivatives, linear outside the knots;
+/// correction (Eq. 2) is d' = d - f_rf(d).
 std::string EncodeMarkerRangeJson(const MarkerRangeFile& file);
 /// Throws IoError (path, byte offset for syntax errors) on malformed JSON, a wrong format tag,
 /// missing or non-finite values, sizes that differ, knots not strictly increasing, more than

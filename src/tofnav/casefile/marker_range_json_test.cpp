@@ -37,6 +37,18 @@ TEST(MarkerRangeJson, RoundTripEvaluatesIdentically) {
   }
 }
 
+TEST(MarkerRangeJson, TheStagesCyclicErrorRoundTripsAndIsAbsentUnlessMeasured) {
+  MarkerRangeFile file = Fitted();
+  EXPECT_FALSE(DecodeMarkerRangeJson(EncodeMarkerRangeJson(file)).cyclic_error.has_value());
+  file.cyclic_error = StageCyclicErrorInfo{{1.07, 1055.0 / 3.0, -2.67}, 0.008, 0.006, 55772, 451.6};
+  const MarkerRangeFile back = DecodeMarkerRangeJson(EncodeMarkerRangeJson(file));
+  ASSERT_TRUE(back.cyclic_error.has_value());
+  EXPECT_EQ(back.cyclic_error->cyclic, file.cyclic_error->cyclic);
+  EXPECT_EQ(back.cyclic_error->amplitude_sd_mm, 0.008);
+  EXPECT_EQ(back.cyclic_error->plate_samples, 55772);
+  EXPECT_EQ(back.cyclic_error->span_mm, 451.6);
+}
+
 TEST(MarkerRangeJson, EmptyCurveIsNoCorrection) {
   const MarkerRangeFile back = DecodeMarkerRangeJson(EncodeMarkerRangeJson({}));
   EXPECT_TRUE(back.model.empty());
@@ -58,6 +70,12 @@ TEST(MarkerRangeJson, RejectsMalformedFiles) {
   ExpectError("[1, 2", "malformed JSON");
   ExpectError(R"({"format": "other"})", "tofnav-marker-range-error");
   ExpectError(head + R"("range_unit": "m"})", "range_unit");
+  ExpectError(head + R"("knots_mm": [], "bias_mm": [], "second_derivative_per_mm": [], )" +
+                  R"("cyclic_error": {"amplitude_mm": 1.0, "phase_rad": 0.0}})",
+              "cyclic_error");
+  ExpectError(head + R"("knots_mm": [], "bias_mm": [], "second_derivative_per_mm": [], )" +
+                  R"("cyclic_error": {"amplitude_mm": -1.0, "period_mm": 351.7, "phase_rad": 0}})",
+              "cyclic_error");
   ExpectError(head + R"("knots_mm": [1, 2]})", "bias_mm");
   ExpectError(head + R"("knots_mm": [1, 2], "bias_mm": [0], "second_derivative_per_mm": [0, 0]})",
               "equal lengths");

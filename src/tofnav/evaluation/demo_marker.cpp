@@ -14,9 +14,11 @@
 #include "tofnav/evaluation/tracking_truth.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/pipeline/marker_tasks.hpp"
+#include "tofnav/pipeline/stage_cyclic_error.hpp"
 #include "tofnav/recording/open_recording.hpp"
 #include "tofnav/scenario/simulate.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
+#include "tofnav/sim/tool_presets.hpp"
 
 namespace tofnav {
 namespace {
@@ -68,6 +70,48 @@ double FitMarkerStageInto(sim::Scenario& s, std::int64_t frames) {
   return speed_mm_per_s;
 }
 
+namespace {
+
+// The sensor's cyclic error from the plate the stage's tape sits on, at the device's period
+// (docs/correction.md 2.8): the depth stage holds it. A stage that cannot tell (too few plate
+// pixels, lossy depth) leaves it to the depth stage's own fit.
+std::optional<StageCyclicErrorInfo> StageCyclicError(DemoContext& ctx, const MarkerSource& source,
+                                                     const MarkerDetectionOptions& detection,
+                                                     const ToolGeometry& structure,
+                                                     const sim::Scenario& scenario,
+                                                     DemoJson& stage) {
+  PlateSampleOptions plate;
+  plate.plate_radius_mm = 0.5 * sim::ToolPresetPlateMm("tape-seven").minCoeff();
+  try {
+    const std::vector<PlateRangeSample> samples =
+        CollectPlateSamples(source, detection, structure, *ctx.frf, plate,
+                            [&](std::size_t d, std::size_t t) { ctx.progress("plate", d, t); });
+    const PlateCyclicFit fit =
+        FitPlateCyclicError(samples, scenario.render.sensor.wiggle_period_mm);
+    ctx.stage_cyclic = fit.cyclic;
+    stage["cyclic_error"] = {{"amplitude_mm", fit.cyclic.amplitude_mm},
+                             {"period_mm", fit.cyclic.period_mm},
+                             {"phase_rad", fit.cyclic.phase_rad},
+                             {"amplitude_sd_mm", fit.amplitude_sd_mm},
+                             {"phase_sd_rad", fit.phase_sd_rad},
+                             {"plate_samples", fit.samples},
+                             {"plate_span_mm", fit.span_mm},
+                             {"plate_robust_sd_mm", fit.robust_sd_mm},
+                             {"plate_intensity_mm", fit.intensity_mm},
+                             {"plate_incidence_mm_per_rad", fit.incidence_mm_per_rad},
+                             {"truth",
+                              {{"amplitude_mm", scenario.render.sensor.wiggle_amplitude_mm},
+                               {"phase_rad", scenario.render.sensor.wiggle_phase_rad}}}};
+    return StageCyclicErrorInfo{fit.cyclic, fit.amplitude_sd_mm, fit.phase_sd_rad,
+                                static_cast<int>(fit.samples), fit.span_mm};
+  } catch (const std::invalid_argument& e) {
+    stage["cyclic_error"] = {{"error", e.what()}};
+    return std::nullopt;
+  }
+}
+
+}  // namespace
+
 MarkerSource OpenSimulatedMarkerSource(const std::filesystem::path& dir) {
   RecordingWithCamera opened =
       OpenRecordingWithCamera(dir / "rm_depth_ahat.bin", dir / "calibration");
@@ -101,10 +145,10 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
                           [&](std::size_t d, std::size_t t) { ctx.progress("fit f_rf", d, t); });
   if (samples.samples.empty()) throw std::runtime_error("no stage run gave range-error samples");
   const MarkerRangeFitResult fit = FitMarkerRangeModel(samples.samples);
-  WriteMarkerRangeJson(ctx.out / "frf.json",
-                       {fit.model,
-                        {static_cast<int>(samples.samples.size()), samples.frames_used,
-                         fit.rms_residual_mm, fit.fit.effective_dof, "gcv"}});
+  MarkerRangeFile frf_file{fit.model,
+                           {static_cast<int>(samples.samples.size()), samples.frames_used,
+                            fit.rms_residual_mm, fit.fit.effective_dof, "gcv"},
+                           std::nullopt};
   ctx.frf = fit.model;
   ctx.range_only_frf = FitMarkerRangeModel(samples.samples, {}, false).model;
   std::ostringstream curve;
@@ -126,6 +170,8 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
     bias_mm[with_frf] = MaxAbsBiasMm(e.at(0).evaluation);
     bins[with_frf] = BiasBins(e.at(0).evaluation);
   }
+  frf_file.cyclic_error = StageCyclicError(ctx, source, detection, structure, scenario, stage);
+  WriteMarkerRangeJson(ctx.out / "frf.json", frf_file);
   stage["frames"] = simulated.frames;
   stage["runs"] = samples.runs.size();
   stage["samples"] = samples.samples.size();

@@ -191,6 +191,10 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
     // with N its phase steps: a property of the device, as K is (docs/correction.md 2.2).
     options.identification.fit_cyclic_period_mm = ctx.session->render.sensor.wiggle_period_mm;
   }
+  if (ctx.stage_cyclic) {  // measured on the stage's plate (docs/correction.md 2.8): held
+    options.identification.fit_cyclic_period_mm = 0.0;
+    options.start.cyclic = *ctx.stage_cyclic;
+  }
   if (ctx.method == Method::kPaper) UsePaperIdentification(options);
   const IdentifyRecordingResult identified =
       IdentifyFromRecording(*s.recording, s.camera, ctx.frf, &skin, options,

@@ -58,10 +58,13 @@ struct DemoContext {
   std::optional<sim::PatientHead> patient_head;
   std::optional<MarkerRangeModel> frf;             // stage marker_error
   std::optional<MarkerRangeModel> range_only_frf;  // ... of the range alone: the paper's Eq. (1)
-  std::optional<sim::Scenario> session;            // the simulated patient session
-  std::filesystem::path session_dir;               // its folder
-  std::optional<DepthModelFile> depth_model;       // stage depth
-  std::optional<TriangleMesh> surface;             // stage reconstruction, in the headframe frame
+  /// The sensor's cyclic error measured on the stage's plate (docs/correction.md 2.8), held by
+  /// the depth stage; unset: the depth stage fits it on the patient.
+  std::optional<CyclicRangeError> stage_cyclic;
+  std::optional<sim::Scenario> session;       // the simulated patient session
+  std::filesystem::path session_dir;          // its folder
+  std::optional<DepthModelFile> depth_model;  // stage depth
+  std::optional<TriangleMesh> surface;        // stage reconstruction, in the headframe frame
   /// The session CT's skin (`tofnav skin`'s defaults), extracted once for the depth and
   /// registration stages (DemoSkin); `skin_of` is the CT it was extracted from.
   std::optional<TriangleMesh> skin;
