@@ -39,9 +39,11 @@ StageCyclicErrorInfo MeasureStageCyclicError(const std::vector<std::filesystem::
     source_args.recording = recording;
     const MarkerSource source = OpenMarkerSource(source_args);
     ProgressBar progress("plate " + recording.filename().string(), quiet);
-    std::vector<PlateRangeSample> more = CollectPlateSamples(
-        source, source_args.detection, structure, frf, plate,
-        [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+    // Each frame's own pose (filter off): the plane of that frame's tape.
+    const std::vector<ToolPoseRecord> poses = TrackTools(
+        source, source_args.detection, {structure}, ToolTrackerOptions{.filter_enabled = false},
+        frf, [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+    std::vector<PlateRangeSample> more = CollectPlateSamples(source, poses, structure, plate);
     int last = -1;
     for (PlateRangeSample& s : more) {
       last = std::max(last, s.run);

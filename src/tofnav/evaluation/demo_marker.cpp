@@ -76,7 +76,7 @@ namespace {
 // (docs/correction.md 2.8): the depth stage holds it. A stage that cannot tell (too few plate
 // pixels, lossy depth) leaves it to the depth stage's own fit.
 std::optional<StageCyclicErrorInfo> StageCyclicError(DemoContext& ctx, const MarkerSource& source,
-                                                     const MarkerDetectionOptions& detection,
+                                                     const std::vector<ToolPoseRecord>& poses,
                                                      const ToolGeometry& structure,
                                                      const sim::Scenario& scenario,
                                                      DemoJson& stage) {
@@ -84,8 +84,7 @@ std::optional<StageCyclicErrorInfo> StageCyclicError(DemoContext& ctx, const Mar
   plate.plate_radius_mm = 0.5 * sim::ToolPresetPlateMm("tape-seven").minCoeff();
   try {
     const std::vector<PlateRangeSample> samples =
-        CollectPlateSamples(source, detection, structure, *ctx.frf, plate,
-                            [&](std::size_t d, std::size_t t) { ctx.progress("plate", d, t); });
+        CollectPlateSamples(source, poses, structure, plate);
     const PlateCyclicFit fit =
         FitPlateCyclicError(samples, scenario.render.sensor.wiggle_period_mm);
     ctx.stage_cyclic = fit.cyclic;
@@ -159,18 +158,20 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   // The bias the poses carry, against the truth: without f_rf, then with it (Eq. 2).
   const ToolTrackerOptions no_filter{.filter_enabled = false};
   double bias_mm[2] = {0.0, 0.0};
+  std::vector<ToolPoseRecord> frf_poses;  // with f_rf: also the plate's reference plane
   DemoJson bins[2];
   for (int with_frf = 0; with_frf < 2; ++with_frf) {
     const std::vector<ToolPoseRecord> records = TrackTools(
         source, detection, {structure}, no_filter, with_frf ? fit.model : MarkerRangeModel{},
         [&](std::size_t d, std::size_t t) { ctx.progress("stage bias", d, t); });
     if (with_frf) WriteToolPoses(ctx.out / "stage_poses.csv", records);
+    if (with_frf) frf_poses = records;
     const std::vector<ToolTruthEvaluation> e =
         EvaluateTrackingAgainstTruth(records, dir / "truth.json");
     bias_mm[with_frf] = MaxAbsBiasMm(e.at(0).evaluation);
     bins[with_frf] = BiasBins(e.at(0).evaluation);
   }
-  frf_file.cyclic_error = StageCyclicError(ctx, source, detection, structure, scenario, stage);
+  frf_file.cyclic_error = StageCyclicError(ctx, source, frf_poses, structure, scenario, stage);
   WriteMarkerRangeJson(ctx.out / "frf.json", frf_file);
   stage["frames"] = simulated.frames;
   stage["runs"] = samples.runs.size();

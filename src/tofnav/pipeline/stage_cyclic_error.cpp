@@ -19,17 +19,11 @@ void PlateSampleOptions::Check() const {
 }
 
 std::vector<PlateRangeSample> CollectPlateSamples(const MarkerSource& source,
-                                                  const MarkerDetectionOptions& detection,
+                                                  const std::vector<ToolPoseRecord>& poses,
                                                   const ToolGeometry& structure,
-                                                  const MarkerRangeModel& marker_range,
-                                                  const PlateSampleOptions& options,
-                                                  const Progress& progress) {
+                                                  const PlateSampleOptions& options) {
   options.Check();
   structure.Check();
-  ToolTrackerOptions tracker;
-  tracker.filter_enabled = false;  // each frame's own pose: the plane of that frame's tape
-  const std::vector<ToolPoseRecord> poses =
-      TrackTools(source, detection, {structure}, tracker, marker_range, progress);
   Eigen::Vector3d centre_in_tool = Eigen::Vector3d::Zero();
   for (const Eigen::Vector3d& m : structure.markers_in_tool) centre_in_tool += m;
   centre_in_tool /= static_cast<double>(structure.markers_in_tool.size());

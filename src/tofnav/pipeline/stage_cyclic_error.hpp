@@ -22,15 +22,13 @@ struct PlateSampleOptions {
   void Check() const;             // throws std::invalid_argument naming the bad field
 };
 
-/// Tracks the stage's structure with f_rf (`marker_range`) and samples, in every posed frame,
-/// the plate pixels' measured range against the range of their ray to the markers' plane, one
-/// run per stage run. Frames whose depth steps are coarser than 2 mm (SAME + H26x, lossy) give
-/// none.
+/// In every frame of `poses` with a raw pose (TrackTools of the stage's structure with f_rf and
+/// the filter off: the plane of that frame's tape), samples the plate pixels' measured range
+/// against the range of their ray to the markers' plane, one run per stage run. Frames whose
+/// depth steps are coarser than 2 mm (SAME + H26x, lossy) give none.
 std::vector<PlateRangeSample> CollectPlateSamples(const MarkerSource& source,
-                                                  const MarkerDetectionOptions& detection,
+                                                  const std::vector<ToolPoseRecord>& poses,
                                                   const ToolGeometry& structure,
-                                                  const MarkerRangeModel& marker_range,
-                                                  const PlateSampleOptions& options,
-                                                  const Progress& progress);
+                                                  const PlateSampleOptions& options);
 
 }  // namespace tofnav
