@@ -12,12 +12,15 @@
 #include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/casefile/transform_io.hpp"
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rigid3d.hpp"
+#include "tofnav/core/statistics.hpp"
 #include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/evaluation/guidance_evaluate.hpp"
 #include "tofnav/evaluation/tracking_truth.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/pipeline/marker_tasks.hpp"
+#include "tofnav/pipeline/navigator.hpp"
 #include "tofnav/recording/hl2ss_calibration.hpp"
 #include "tofnav/recording/open_recording.hpp"
 #include "tofnav/registration/register_surface.hpp"
@@ -30,6 +33,45 @@ constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 double AngleDeg(const Rigid3d& a, const Rigid3d& b) {
   return Eigen::AngleAxisd(a.rotation.inverse() * b.rotation).angle() * kDegPerRad;
+}
+
+// The instrument as the navigator showed it in one frame: its measured pose, for the truth check.
+ToolPoseRecord InstrumentRecord(std::size_t index, const AhatFrame& frame,
+                                const NavigationState& s) {
+  ToolPoseRecord r;
+  r.frame = static_cast<std::int64_t>(index);
+  r.host_ticks = frame.host_ticks;
+  r.time_s = frame.timestamp_s();
+  r.tool = "instrument";
+  r.status = s.instrument_status.value_or(ToolStatus::kOutOfView);
+  r.ahat_from_tool = s.ahat_from_instrument;
+  return r;
+}
+
+// What the surgeon saw of the instrument against the truth: the frames it was shown in, those
+// whose pose belongs to something else (a wrong identity: another tool's markers), and the tip's
+// distance from its true place over the right ones.
+DemoJson InstrumentFigures(std::span<const ToolPoseRecord> records, const ToolGeometry& instrument,
+                           const std::filesystem::path& truth) {
+  const std::vector<ToolTruthEvaluation> e = EvaluateTrackingAgainstTruth(records, truth);
+  Require(e.size() == 1, "instrument: no frames to evaluate");
+  const TrackingEvaluationOptions wrong;  // the limits of a wrong identity
+  std::vector<double> tip_mm;
+  for (const ToolEvaluationFrame& f : e[0].frames) {
+    if (!f.raw ||
+        TranslationDistanceMm(*f.raw, f.true_ahat_from_tool) > wrong.wrong_translation_mm ||
+        RotationDistanceRad(*f.raw, f.true_ahat_from_tool) > wrong.wrong_rotation_rad) {
+      continue;
+    }
+    const Eigen::Vector3d& tip = *instrument.tip_in_tool;
+    tip_mm.push_back((*f.raw * tip - f.true_ahat_from_tool * tip).norm());
+  }
+  const Summary t = Summarise(tip_mm);
+  return {{"shown_frames", e[0].evaluation.posed_frames},
+          {"fully_visible_frames", e[0].evaluation.fully_visible_frames},
+          {"wrong_identities", e[0].evaluation.wrong_identities},
+          {"tip_error_median_mm", tip_mm.empty() ? DemoJson() : DemoJson(t.median)},
+          {"tip_error_max_mm", tip_mm.empty() ? DemoJson() : DemoJson(t.max)}};
 }
 
 }  // namespace
@@ -192,6 +234,13 @@ void RunDemoGuidance(DemoContext& ctx, DemoJson& stage) {
   c.tool_from_image = *ctx.tool_from_image;
   c.plan = ReadTrajectories(ctx.session_dir / "plan.mrk.json");
   if (ctx.frf) c.marker_range = *ctx.frf;
+  // The instrument tracked beside the headframe, as the surgeon navigates it (their markers are
+  // matched together: the instrument can take the headframe's blobs, docs/tracking.md 9.4).
+  const std::filesystem::path instrument_file = ctx.session_dir / "tools" / "instrument.json";
+  if (std::filesystem::exists(instrument_file)) {
+    ToolGeometry instrument = ReadToolJson(instrument_file);
+    if (instrument.tip_in_tool) c.instrument = std::move(instrument);
+  }
   const std::unique_ptr<AhatRecording> recording =
       OpenAhatRecording(ctx.session_dir / "rm_depth_ahat.bin");
   NavigatorOptions options;
@@ -200,11 +249,14 @@ void RunDemoGuidance(DemoContext& ctx, DemoJson& stage) {
                       options);
   std::string csv = NavigationCsvHeader();
   std::vector<PlacedFrame> placed;
+  std::vector<ToolPoseRecord> instrument;
   const std::size_t frames = recording->frame_count();
   for (std::size_t i = 0; i < frames; ++i) {
-    const NavigationState s = navigator.Process(recording->ReadFrame(i));
+    const AhatFrame frame = recording->ReadFrame(i);
+    const NavigationState s = navigator.Process(frame);
     csv += NavigationCsvRow(s, c.plan);
     if (s.world_from_image) placed.push_back({s.timestamp_s, *s.world_from_image});
+    if (c.instrument) instrument.push_back(InstrumentRecord(i, frame, s));
     ctx.progress("navigate", i + 1, frames);
   }
   WriteFileAtomically(ctx.out / "navigation.csv", csv);
@@ -224,6 +276,10 @@ void RunDemoGuidance(DemoContext& ctx, DemoJson& stage) {
   stage["angle_median_deg"] = g.direction_deg.median;
   stage["angle_p95_deg"] = g.direction_deg.p95;
   stage["entry_world_median_mm"] = g.entry_world_mm.median;
+  if (c.instrument) {
+    stage["instrument"] =
+        InstrumentFigures(instrument, *c.instrument, ctx.session_dir / "truth.json");
+  }
   stage["navigation_csv"] = "navigation.csv";
   stage["acceptance"] = DemoJson::array(  // issue 8
       {Acceptance("entry_median_mm", g.entry_mm.median, "<=", 1.0),

@@ -175,6 +175,8 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
     const SuiteJson& guidance = At(stages, "guidance");
     row["entry_mm"] = Num(guidance, "entry_median_mm");
     row["angle_deg"] = Num(guidance, "angle_median_deg");
+    // Frames in which the navigator showed the instrument on another tool's markers (no line).
+    row["instrument_wrong_identities"] = Num(At(guidance, "instrument"), "wrong_identities");
     row["stages"] = stages;
   } catch (const std::exception& e) {  // the case's set-up itself failed (head, device)
     row["ok"] = false;

@@ -15,7 +15,7 @@ struct Scored {
   std::size_t tool = 0;
   std::size_t candidate = 0;
   double score = 0.0;
-  bool dominated = false;  // another tool's whole candidate explains its blobs (Dominates)
+  bool dominated = false;  // a candidate of another tool explains its blobs and more (Dominates)
   /// The frame's images show empty space where it puts an unmatched marker (MarkerVoidTest):
   /// never accepted, but still a rival, so that refusing it can only take a pose away.
   bool refused = false;
@@ -33,12 +33,14 @@ bool Shares(const ToolCandidate& a, const ToolCandidate& b) {
   });
 }
 
-// True when `other` claims a strict subset of the detections of `full`, which matches every
-// marker of its tool: `full` explains each of those blobs and the rest too, while `other` must
-// also claim an occlusion of its unseen markers. A 3-marker triangle of one tool that happens to
-// fit 3 markers of another (at 700 mm the tolerance admits that) is then no rival.
-bool Dominates(const ToolCandidate& full, std::size_t full_markers, const ToolCandidate& other) {
-  if (full.visible != static_cast<int>(full_markers) ||
+// True when `other` claims a strict subset of the detections of `full`, and is itself not a whole
+// tool: `full` explains each of those blobs and more, with more coincident distances, while
+// `other` must also claim an occlusion of its unseen markers. A 3-marker triangle of one tool that
+// happens to fit 3 markers of another (at 700 mm the tolerance admits that) is then no rival, also
+// where `full` is a headframe of two plates with one of them out of view (4 of 8 markers: its
+// occlusion penalty had let the instrument's triangle on the seen plate win, docs/tracking.md 9.4).
+bool Dominates(const ToolCandidate& full, const ToolCandidate& other) {
+  if (full.visible <= other.visible ||
       other.visible >= static_cast<int>(other.scene_index.size())) {
     return false;
   }
@@ -135,8 +137,7 @@ class Arbiter {
                      [](const Scored& a, const Scored& b) { return a.score < b.score; });
     for (Scored& s : scored_) {
       s.dominated = std::any_of(scored_.begin(), scored_.end(), [&](const Scored& o) {
-        return o.tool != s.tool &&
-               Dominates(Candidate(o), tools_[o.tool].markers_in_tool.size(), Candidate(s));
+        return o.tool != s.tool && Dominates(Candidate(o), Candidate(s));
       });
     }
   }

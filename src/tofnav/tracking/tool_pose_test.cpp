@@ -194,6 +194,31 @@ TEST(EstimateToolPoses, AToolSeenWholeIsNotAmbiguousWithAnotherToolsTriangleOfIt
   }
 }
 
+TEST(EstimateToolPoses, AHeadframeWithOnePlateInViewIsNotLostToAnotherToolsTriangleOfThatPlate) {
+  // A headframe of two plates (8 markers, the second 230 mm away and out of view) and an
+  // instrument whose triangle fits three of the seen plate's markers. The headframe's four
+  // blobs carry four penalties of occlusion, the triangle one: scored alone, the triangle won and
+  // the instrument was shown on the plate (a wrong identity). The four blobs explain more.
+  const ToolGeometry plate = ReferenceTool();
+  ToolGeometry headframe = plate;
+  headframe.name = "headframe";
+  for (const Eigen::Vector3d& m : SecondTool().markers_in_tool) {  // another layout: no twin
+    headframe.markers_in_tool.push_back(m + Eigen::Vector3d(230.0, 0.0, -40.0));
+  }
+  ToolGeometry instrument = plate;
+  instrument.name = "instrument";
+  instrument.markers_in_tool[3] = {0.0, 0.0, 40.0};  // off the plane: never among the four blobs
+  std::mt19937_64 rng(11);
+  const Rigid3d truth = testing::FacingToolPose({0, 0, 600}, 0.1, -0.2);
+  std::vector<DetectedMarker> d = ToolDetections(plate, truth, 0.1, rng);
+  const ToolGeometry tools[] = {headframe, instrument};
+  const std::vector<ToolPoseResult> r = EstimateToolPoses(d, tools);
+  ASSERT_EQ(r[0].status, ToolStatus::kPartiallyOccluded);
+  EXPECT_EQ(r[0].visible_markers, 4);
+  EXPECT_THAT(*r[0].ahat_from_tool, RigidNear(truth, kPoseRotTolRad, kPoseTransTolMm));
+  EXPECT_FALSE(r[1].ahat_from_tool.has_value());
+}
+
 TEST(EstimateToolPoses, RejectsTheMirrorTwinAndBadInput) {
   ToolGeometry mirror = ReferenceTool();
   mirror.name = "mirror";
