@@ -86,6 +86,12 @@ for t in s["tracking"]["tools"]:
 g = s["guidance"]
 assert g["entry_median_mm"] <= ENTRY_MM and g["angle_median_deg"] <= ANGLE_DEG, g
 assert len(g["trajectories"]) == 9, g
+# The instrument as navigate shows it beside the headframe: its tip 171 mm from its markers, so
+# the orientation line (0.35 deg) moves it 1.0 mm and the position line 0.3 mm: 1.5 mm.
+gi = g["instrument"]
+assert 0 <= gi["wrong_identities"] <= gi["shown_frames"], gi
+if gi["shown_frames"] > gi["wrong_identities"]:
+    assert gi["tip_error_median_mm"] <= 1.5, gi
 # --method both: the paper's method on the same session (issue 38 item 1, docs/paper_method.md).
 pm = out["paper_method"]["stages"]
 assert sorted(pm) == ["depth", "guidance", "reconstruction", "registration", "tracking"], sorted(pm)

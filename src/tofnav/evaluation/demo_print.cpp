@@ -233,6 +233,14 @@ void PrintDemoTables(const DemoJson& demo) {
         "placed frames\n",
         Number(s, "entry_median_mm"), Number(s, "entry_p95_mm"), Number(s, "angle_median_deg"),
         Number(s, "angle_p95_deg"), s.value("placed_frames", 0));
+    if (const auto i = s.find("instrument"); i != s.end() && i->is_object()) {
+      const DemoJson& t = *i;
+      std::printf(
+          "   instrument beside the headframe: shown in %d frames, %d on another tool's markers; "
+          "tip error median %.3f mm, max %.3f\n",
+          t.value("shown_frames", 0), t.value("wrong_identities", 0),
+          Number(t, "tip_error_median_mm"), Number(t, "tip_error_max_mm"));
+    }
     std::printf(
         "   paper: entry %.2f +- %.2f mm, angle %.2f +- %.2f deg (surgeons' hands "
         "included)\n",
