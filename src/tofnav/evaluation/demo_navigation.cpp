@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <stdexcept>
 #include <utility>
 
 #include "tofnav/casefile/markups_read.hpp"
@@ -276,9 +277,13 @@ void RunDemoGuidance(DemoContext& ctx, DemoJson& stage) {
   stage["angle_median_deg"] = g.direction_deg.median;
   stage["angle_p95_deg"] = g.direction_deg.p95;
   stage["entry_world_median_mm"] = g.entry_world_mm.median;
-  if (c.instrument) {
-    stage["instrument"] =
-        InstrumentFigures(instrument, *c.instrument, ctx.session_dir / "truth.json");
+  if (c.instrument) {  // a truth that cannot judge the instrument loses its figures, not the plan's
+    try {
+      stage["instrument"] =
+          InstrumentFigures(instrument, *c.instrument, ctx.session_dir / "truth.json");
+    } catch (const std::exception& e) {
+      stage["instrument"] = {{"error", e.what()}};
+    }
   }
   stage["navigation_csv"] = "navigation.csv";
   stage["acceptance"] = DemoJson::array(  // issue 8

@@ -233,7 +233,10 @@ void PrintDemoTables(const DemoJson& demo) {
         "placed frames\n",
         Number(s, "entry_median_mm"), Number(s, "entry_p95_mm"), Number(s, "angle_median_deg"),
         Number(s, "angle_p95_deg"), s.value("placed_frames", 0));
-    if (const auto i = s.find("instrument"); i != s.end() && i->is_object()) {
+    if (const auto i = s.find("instrument"); i != s.end() && i->contains("error")) {
+      std::printf("   instrument beside the headframe: not judged (%s)\n",
+                  (*i)["error"].get<std::string>().c_str());
+    } else if (i != s.end() && i->is_object()) {
       const DemoJson& t = *i;
       std::printf(
           "   instrument beside the headframe: shown in %d frames, %d on another tool's markers; "
