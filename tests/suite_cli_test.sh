@@ -36,6 +36,10 @@ for key, limit in [("tracking_mm", TRACKING_MM), ("reconstruction_mm", RECONSTRU
                    ("entry_mm", ENTRY_MM)]:
     assert row[key] is not None and 0.0 < row[key] <= limit, (key, row[key])
 assert any(l["figure"] == "reconstruction_mm" for l in row["acceptance"])
+# The instrument as navigate shows it beside the headframe: its wrong frames, summed in the summary.
+w = row["instrument_wrong_identities"]
+assert w is None or w >= 0, w
+assert out["summary"]["instrument_wrong_frames"] == (int(w) if w is not None else 0), out["summary"]
 print("suite smoke:", {k: row[k] for k in ["tracking_mm", "reconstruction_mm", "entry_mm",
                                          "registration", "true_tre_mm", "wall_s"]})
 PY

@@ -59,7 +59,7 @@ void PrintRow(const SuiteJson& row) {
 // Typical (median) and worst case of a figure over the rows, and how many rows meet its line.
 SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
   SuiteJson summary = SuiteJson::object();
-  std::size_t refused = 0, failed = 0, all_met = 0;
+  std::size_t refused = 0, failed = 0, all_met = 0, instrument_wrong = 0;
   for (const char* key : {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm",
                           "beyond_3mm_percent", "true_tre_mm", "entry_mm", "angle_deg",
                           "stream_mbit_s", "wall_s", "stability_c1_mm", "stability_head_mm"}) {
@@ -80,6 +80,11 @@ SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
   for (const SuiteJson& r : rows) {
     if (!r.at("ok").get<bool>()) ++failed;
     if (r.value("registration", std::string()).starts_with("refused")) ++refused;
+    // Frames with the instrument shown on another tool's markers, over every run (no line).
+    if (const auto w = r.find("instrument_wrong_identities"); w != r.end() && w->is_number()) {
+      const double frames = w->get<double>();
+      if (!std::isnan(frames)) instrument_wrong += static_cast<std::size_t>(frames);
+    }
     bool met = true;
     for (const SuiteJson& line : r.at("acceptance")) met = met && line.at("met").get<bool>();
     all_met += met ? 1 : 0;
@@ -88,6 +93,7 @@ SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
   summary["cases_meeting_every_line"] = all_met;
   summary["registrations_refused"] = refused;
   summary["cases_with_a_failed_stage"] = failed;
+  summary["instrument_wrong_frames"] = instrument_wrong;
   return summary;
 }
 
