@@ -11,7 +11,6 @@
 #include "config_json.hpp"
 #include "marker_source.hpp"
 #include "progress.hpp"
-#include "tofnav/casefile/depth_model_json.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
@@ -53,9 +52,7 @@ StageCyclicErrorInfo MeasureStageCyclicError(const std::vector<std::filesystem::
     samples.insert(samples.end(), more.begin(), more.end());
   }
   try {
-    const PlateCyclicFit fit = FitPlateCyclicError(samples, period_mm);
-    return {fit.cyclic, fit.amplitude_sd_mm, fit.phase_sd_rad, static_cast<int>(fit.samples),
-            fit.span_mm};
+    return StageCyclicErrorOf(FitPlateCyclicError(samples, period_mm));
   } catch (const std::invalid_argument& e) {
     throw std::runtime_error(std::string("--cyclic-period-mm: ") + e.what());
   }
@@ -177,12 +174,7 @@ int RunFitMarkerError(int argc, char** argv) {
                       {"entrance_gain_mm_per_rad", fit.model.entrance_gain_mm_per_rad},
                       {"f_rf_mm", curve},
                       {"runs", runs_json}};
-  if (file.cyclic_error) {
-    summary["cyclic_error"] = CyclicErrorToJson(file.cyclic_error->cyclic);
-    summary["cyclic_error"]["amplitude_sd_mm"] = file.cyclic_error->amplitude_sd_mm;
-    summary["cyclic_error"]["phase_sd_rad"] = file.cyclic_error->phase_sd_rad;
-    summary["cyclic_error"]["plate_samples"] = file.cyclic_error->plate_samples;
-  }
+  if (file.cyclic_error) summary["cyclic_error"] = StageCyclicErrorToJson(*file.cyclic_error);
   if (json) {
     std::cout << WithOptions(summary, app).dump(2) << "\n";
     return EXIT_SUCCESS;

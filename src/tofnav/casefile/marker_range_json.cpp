@@ -51,6 +51,16 @@ double NumberOr(const OrderedJson& json, const char* key, double fallback,
 
 }  // namespace
 
+OrderedJson StageCyclicErrorToJson(const StageCyclicErrorInfo& info) {
+  OrderedJson j = CyclicErrorToJson(info.cyclic);
+  j["amplitude_sd_mm"] = info.amplitude_sd_mm;
+  j["phase_sd_rad"] = info.phase_sd_rad;
+  j["plate_samples"] = info.plate_samples;
+  j["span_mm"] = info.span_mm;
+  j["source"] = "the stage's plate beside the tape (docs/correction.md 2.8)";
+  return j;
+}
+
 std::string EncodeMarkerRangeJson(const MarkerRangeFile& file) {
   const CubicSpline& s = file.model.bias_mm;
   OrderedJson json{{"format", kFormat},
@@ -70,15 +80,7 @@ std::string EncodeMarkerRangeJson(const MarkerRangeFile& file) {
                      {"rms_residual_mm", file.fit.rms_residual_mm},
                      {"effective_dof", file.fit.effective_dof},
                      {"smoothing", file.fit.smoothing}}}};
-  if (const auto& c = file.cyclic_error) {
-    OrderedJson j = CyclicErrorToJson(c->cyclic);
-    j["amplitude_sd_mm"] = c->amplitude_sd_mm;
-    j["phase_sd_rad"] = c->phase_sd_rad;
-    j["plate_samples"] = c->plate_samples;
-    j["span_mm"] = c->span_mm;
-    j["source"] = "the stage's plate beside the tape (docs/correction.md 2.8)";
-    json["cyclic_error"] = j;
-  }
+  if (file.cyclic_error) json["cyclic_error"] = StageCyclicErrorToJson(*file.cyclic_error);
   return json.dump(2) + "\n";
 }
 

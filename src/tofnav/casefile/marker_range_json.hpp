@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -37,6 +38,9 @@ struct MarkerRangeFile {
   MarkerRangeFitInfo fit;
   std::optional<StageCyclicErrorInfo> cyclic_error;  // absent unless measured
 };
+
+/// The "cyclic_error" object of frf.json (EncodeMarkerRangeJson), as the fit's reports print it.
+nlohmann::ordered_json StageCyclicErrorToJson(const StageCyclicErrorInfo& info);
 
 /// JSON: {"format": "tofnav-marker-range-error", "version": 1, "range_unit": "mm",
 /// "smoothing_p": p, "knots_mm": [...], "bias_mm": [...], "second_derivative_per_mm": [...],

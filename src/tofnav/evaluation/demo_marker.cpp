@@ -7,6 +7,7 @@
 #include <sstream>
 #include <utility>
 
+#include "tofnav/casefile/depth_model_json.hpp"
 #include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/casefile/tool_json.hpp"
 #include "tofnav/casefile/tool_poses_io.hpp"
@@ -88,21 +89,18 @@ std::optional<StageCyclicErrorInfo> StageCyclicError(DemoContext& ctx, const Mar
     const PlateCyclicFit fit =
         FitPlateCyclicError(samples, scenario.render.sensor.wiggle_period_mm);
     ctx.stage_cyclic = fit.cyclic;
-    stage["cyclic_error"] = {{"amplitude_mm", fit.cyclic.amplitude_mm},
-                             {"period_mm", fit.cyclic.period_mm},
-                             {"phase_rad", fit.cyclic.phase_rad},
-                             {"amplitude_sd_mm", fit.amplitude_sd_mm},
-                             {"phase_sd_rad", fit.phase_sd_rad},
-                             {"plate_samples", fit.samples},
-                             {"plate_span_mm", fit.span_mm},
-                             {"plate_robust_sd_mm", fit.robust_sd_mm},
-                             {"plate_intensity_mm", fit.intensity_mm},
-                             {"plate_incidence_mm_per_rad", fit.incidence_mm_per_rad},
-                             {"truth",
-                              {{"amplitude_mm", scenario.render.sensor.wiggle_amplitude_mm},
-                               {"phase_rad", scenario.render.sensor.wiggle_phase_rad}}}};
-    return StageCyclicErrorInfo{fit.cyclic, fit.amplitude_sd_mm, fit.phase_sd_rad,
-                                static_cast<int>(fit.samples), fit.span_mm};
+    stage["cyclic_error"] = CyclicErrorToJson(fit.cyclic);
+    DemoJson& c = stage["cyclic_error"];
+    c["amplitude_sd_mm"] = fit.amplitude_sd_mm;
+    c["phase_sd_rad"] = fit.phase_sd_rad;
+    c["plate_samples"] = fit.samples;
+    c["plate_span_mm"] = fit.span_mm;
+    c["plate_robust_sd_mm"] = fit.robust_sd_mm;
+    c["plate_intensity_mm"] = fit.intensity_mm;
+    c["plate_incidence_mm_per_rad"] = fit.incidence_mm_per_rad;
+    c["truth"] = {{"amplitude_mm", scenario.render.sensor.wiggle_amplitude_mm},
+                  {"phase_rad", scenario.render.sensor.wiggle_phase_rad}};
+    return StageCyclicErrorOf(fit);
   } catch (const std::invalid_argument& e) {
     stage["cyclic_error"] = {{"error", e.what()}};
     return std::nullopt;

@@ -59,11 +59,7 @@ DemoJson InstrumentFigures(std::span<const ToolPoseRecord> records, const ToolGe
   const TrackingEvaluationOptions wrong;  // the limits of a wrong identity
   std::vector<double> tip_mm;
   for (const ToolEvaluationFrame& f : e[0].frames) {
-    if (!f.raw ||
-        TranslationDistanceMm(*f.raw, f.true_ahat_from_tool) > wrong.wrong_translation_mm ||
-        RotationDistanceRad(*f.raw, f.true_ahat_from_tool) > wrong.wrong_rotation_rad) {
-      continue;
-    }
+    if (!f.raw || wrong.IsWrongIdentity(*f.raw, f.true_ahat_from_tool)) continue;
     const Eigen::Vector3d& tip = *instrument.tip_in_tool;
     tip_mm.push_back((*f.raw * tip - f.true_ahat_from_tool * tip).norm());
   }

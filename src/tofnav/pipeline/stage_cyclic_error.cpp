@@ -75,4 +75,9 @@ std::vector<PlateRangeSample> CollectPlateSamples(const MarkerSource& source,
   return samples;
 }
 
+StageCyclicErrorInfo StageCyclicErrorOf(const PlateCyclicFit& fit) {
+  return {fit.cyclic, fit.amplitude_sd_mm, fit.phase_sd_rad, static_cast<int>(fit.samples),
+          fit.span_mm};
+}
+
 }  // namespace tofnav

@@ -5,6 +5,7 @@
 
 #include <vector>
 
+#include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/correction/plate_cyclic_error.hpp"
 #include "tofnav/pipeline/marker_tasks.hpp"
@@ -30,5 +31,8 @@ std::vector<PlateRangeSample> CollectPlateSamples(const MarkerSource& source,
                                                   const std::vector<ToolPoseRecord>& poses,
                                                   const ToolGeometry& structure,
                                                   const PlateSampleOptions& options);
+
+/// What frf.json keeps of a plate fit (MarkerRangeFile::cyclic_error).
+StageCyclicErrorInfo StageCyclicErrorOf(const PlateCyclicFit& fit);
 
 }  // namespace tofnav

@@ -56,6 +56,12 @@ void TrackingEvaluationOptions::Check() const {
   }
 }
 
+bool TrackingEvaluationOptions::IsWrongIdentity(const Rigid3d& measured,
+                                                const Rigid3d& truth) const {
+  return TranslationDistanceMm(measured, truth) > wrong_translation_mm ||
+         RotationDistanceRad(measured, truth) > wrong_rotation_rad;
+}
+
 ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
                                     std::span<const Eigen::Vector3d> markers_in_tool,
                                     const TrackingEvaluationOptions& options) {
@@ -93,12 +99,12 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
     if (f.fully_visible) ++e.fully_visible_frames;
     if (!f.raw) continue;
     ++e.posed_frames;
-    const double mm = TranslationDistanceMm(*f.raw, f.true_ahat_from_tool);
-    const double rad = RotationDistanceRad(*f.raw, f.true_ahat_from_tool);
-    if (mm > options.wrong_translation_mm || rad > options.wrong_rotation_rad) {
+    if (options.IsWrongIdentity(*f.raw, f.true_ahat_from_tool)) {
       ++e.wrong_identities;
       continue;
     }
+    const double mm = TranslationDistanceMm(*f.raw, f.true_ahat_from_tool);
+    const double rad = RotationDistanceRad(*f.raw, f.true_ahat_from_tool);
     if (f.fully_visible) {
       ++e.tracked_fully_visible;
       visible_mm.push_back(mm);

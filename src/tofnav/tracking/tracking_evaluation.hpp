@@ -32,6 +32,8 @@ struct TrackingEvaluationOptions {
   int min_static_frames = 10;     // frames a static run needs after the warm-up
   double range_bin_mm = 100.0;    // width of the marker-range bins of the range bias
   void Check() const;             // throws std::invalid_argument naming the bad field
+  /// A measured pose farther from the true one than wrong_translation_mm or wrong_rotation_rad.
+  bool IsWrongIdentity(const Rigid3d& measured, const Rigid3d& truth) const;
 };
 
 /// Errors of the poses compared (wrong identities excluded); count: the poses (the same in both).
