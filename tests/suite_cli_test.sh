@@ -46,7 +46,8 @@ PY
 # The spread over seeds (issue 40): two runs of the case at seeds 5 + 100 + 0 and + 1, each in its
 # own folder, the per-case median and worst, and the page's spread table. A short run: the rows'
 # figures are checked above; here the bookkeeping.
-"$tofnav" evaluate suite smoke --seeds 2 --seed-offset 100 --frames-scale 0.05 --stability 1 \
+"$tofnav" evaluate suite smoke --seeds 2 --seed-offset 100 --frames-scale 0.05 --stability 2 \
+  --consensus \
   --out "$scratch/seeds" --json -q >"$scratch/seeds.json" || true
 /usr/bin/python3 - "$scratch/seeds.json" "$scratch/seeds" <<'PY'
 import json, os, sys
@@ -64,14 +65,27 @@ values = [r["tracking_mm"] for r in out["rows"] if r.get("tracking_mm") is not N
 if values:
     assert abs(s["tracking_mm"]["worst"] - max(values)) < 1e-12, (s, values)
 assert "Spread over seeds" in open(os.path.join(d, "suite.html")).read()
-# --stability 1: each row carries its depth stage's stability figures, and the spread their worst.
+# --stability 2 --consensus: each row carries its depth stage's stability figures, and the spread
+# their worst; the medoid of the three runs is kept, and its own stability is reported.
 for r in out["rows"]:
     if r["ok"]:
         assert r["stability_c1_mm"] >= 0.0 and r["stability_head_mm"] >= 0.0, r
+        assert r["consensus_kept_run"] in (0, 1, 2), r
+        assert r["consensus_c1_mm"] >= 0.0 and r["consensus_head_mm"] >= 0.0, r
+        # Without either subset the medoid of the two left is the full run (a tie): the change
+        # is none when the full run was kept.
+        if r["consensus_kept_run"] == 0:
+            assert r["consensus_c1_mm"] == 0.0 and r["consensus_head_mm"] == 0.0, r
 if all(r["ok"] for r in out["rows"]):
     assert s["stability_c1_mm"]["worst"] == max(r["stability_c1_mm"] for r in out["rows"]), s
 print("suite --seeds 2:", {k: s[k] for k in ["cases", "cases_meeting_every_line"]})
 PY
+# --consensus needs runs to take the medoid of.
+if "$tofnav" evaluate suite smoke --consensus --out "$scratch/bad" 2>"$scratch/err"; then
+  echo "--consensus without --stability was accepted" >&2
+  exit 1
+fi
+grep -q -- "--consensus needs --stability 2 or more" "$scratch/err"
 # --stages tracking: the marker stage, the session and the tracking only; the row's acceptance has
 # the tracking lines alone. An unknown stage is refused with the known ones.
 "$tofnav" evaluate suite smoke --stages tracking --frames-scale 0.05 --out "$scratch/stages" \

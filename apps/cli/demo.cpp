@@ -62,6 +62,10 @@ int RunDemo(int argc, char** argv) {
                  "identify again N times (0-10), each without another tenth of the frames, and "
                  "report how far C1 moves (issue 40; about 25 s each)")
       ->check(CLI::Range(0, 10));
+  bool consensus = false;
+  app.add_flag("--consensus", consensus,
+               "with --stability N >= 2: keep the medoid of the full identification and the N "
+               "runs, not the full one (docs/correction.md 2.9)");
   std::string method = "tofnav";
   app.add_option("--method", method,
                  "tofnav, paper (the paper's method as published, docs/paper_method.md) or both "
@@ -71,9 +75,15 @@ int RunDemo(int argc, char** argv) {
   app.add_flag("--json", json, "print demo.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");
   TOFNAV_PARSE(app, argc, argv);
+  if (consensus && stability_subsets < 2) {
+    std::cerr << "tofnav demo: --consensus needs --stability 2 or more (the medoid of the full "
+                 "run and those runs)\n";
+    return EXIT_FAILURE;
+  }
 
   DemoContext ctx;
   ctx.stability_subsets = stability_subsets;
+  ctx.consensus = consensus;
   ctx.method = method == "paper" ? Method::kPaper : Method::kTofnav;
   ctx.out = out;
   ctx.seed = seed;

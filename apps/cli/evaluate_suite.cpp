@@ -60,9 +60,10 @@ void PrintRow(const SuiteJson& row) {
 SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
   SuiteJson summary = SuiteJson::object();
   std::size_t refused = 0, failed = 0, all_met = 0, instrument_wrong = 0;
-  for (const char* key : {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm",
-                          "beyond_3mm_percent", "true_tre_mm", "entry_mm", "angle_deg",
-                          "stream_mbit_s", "wall_s", "stability_c1_mm", "stability_head_mm"}) {
+  for (const char* key :
+       {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm", "beyond_3mm_percent",
+        "true_tre_mm", "entry_mm", "angle_deg", "stream_mbit_s", "wall_s", "stability_c1_mm",
+        "stability_head_mm", "consensus_c1_mm", "consensus_head_mm"}) {
     std::vector<double> values;
     for (const SuiteJson& r : rows) {
       if (r.contains(key) && r.at(key).is_number() && !std::isnan(r.at(key).get<double>())) {
@@ -179,6 +180,10 @@ int RunEvaluateSuite(int argc, char** argv) {
                  "per case, identify again N times (0-10) without another tenth of the frames: "
                  "the largest C1 and head-median changes (docs/correction.md 2.4)")
       ->check(CLI::Range(0, 10));
+  bool consensus = false;
+  app.add_flag("--consensus", consensus,
+               "with --stability N >= 2: keep the medoid of the full identification and the N "
+               "runs, not the full one (docs/correction.md 2.9)");
   app.add_option("--stages", stages,
                  "run only these stages and those they need (marker_error, session, depth, "
                  "reconstruction, registration, tracking, guidance; e.g. tracking: 20 s a run); "
@@ -191,6 +196,12 @@ int RunEvaluateSuite(int argc, char** argv) {
   SuiteRunOptions run_options;
   AddMethodOption(app, run_options.method);
   TOFNAV_PARSE(app, argc, argv);
+  if (consensus && stability_subsets < 2) {
+    std::cerr << "tofnav evaluate suite: --consensus needs --stability 2 or more (the medoid of "
+                 "the full run and those runs)\n";
+    return EXIT_FAILURE;
+  }
+  run_options.consensus = consensus;
   const Hl2ssStreamProfile stream_profile = *ParseHl2ssStreamProfile(profile);
   try {
     run_options.stages = DemoStagesWithPrerequisites(stages);

@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "config_json.hpp"
 #include "head_region_option.hpp"
+#include "identify_consensus_report.hpp"
 #include "method_option.hpp"
 #include "progress.hpp"
 #include "tofnav/casefile/depth_model_json.hpp"
@@ -114,6 +115,15 @@ int RunIdentify(int argc, char** argv) {
         return v == "1" ? std::string("0 or at least 2") : std::string();
       })
       ->check(CLI::NonNegativeNumber);
+  int consensus = 0;
+  app.add_option("--consensus", consensus,
+                 "identify again K times (2-10; 0 = off), each without another tenth of the "
+                 "frames, and keep the medoid of the K + 1 models (docs/correction.md 2.9; K + 1 "
+                 "times as long)")
+      ->check([](const std::string& v) {
+        return v == "1" ? std::string("0 (off) or 2 to 10") : std::string();
+      })
+      ->check(CLI::Range(0, 10));
   app.add_option("--model", angle_term, "angle term: theta (paper), theta2, 1-cos");
   std::vector<double> start_values;
   app.add_option("--start", start_values,
@@ -233,9 +243,13 @@ int RunIdentify(int argc, char** argv) {
   identify.smooth_reference_rotation = !raw_reference_rotation;
   if (method == Method::kPaper) UsePaperIdentification(identify);
   ProgressBar progress("identify: frames", quiet || json);
-  const IdentifyRecordingResult result = IdentifyFromRecording(
-      *recording, camera, frf, skin ? &*skin : nullptr, identify,
-      [&](std::size_t done, std::size_t total) { progress.Update(done, total); });
+  const IdentifyConsensusResult runs =
+      IdentifyWithConsensus(*recording, camera, frf, skin ? &*skin : nullptr, identify, consensus,
+                            [&](int run, int count, std::size_t done, std::size_t total) {
+                              progress.Update(static_cast<std::size_t>(run) * total + done,
+                                              static_cast<std::size_t>(count) * total);
+                            });
+  const IdentifyRecordingResult& result = runs.Kept();
   const DepthModelFile& file = result.file;
   const nlohmann::ordered_json effective_options = EffectiveOptions(app);
   WriteDepthModelJson(out_path, file, &effective_options);
@@ -280,6 +294,7 @@ int RunIdentify(int argc, char** argv) {
                                       {"final_cost_mm2", m.report.final_cost},
                                       {"seconds", m.report.seconds},
                                       {"registration", registration_report},
+                                      {"consensus", ConsensusToJson(runs)},
                                       {"cross_validation", nlohmann::ordered_json::object()},
                                       {"out", out_path.string()}});
     for (const auto& [name, cost] : m.report.cross_validation) {
@@ -341,6 +356,7 @@ int RunIdentify(int argc, char** argv) {
   for (const auto& [name, cost] : m.report.cross_validation) {
     std::cout << "  held-out Err_S^2 " << name << ": " << cost << " mm^2\n";
   }
+  if (!runs.subsets.empty()) PrintConsensus(runs);
   std::cout << "wrote " << out_path.string() << "\n";
   return EXIT_SUCCESS;
 }

@@ -15,6 +15,7 @@
 #include "tofnav/evaluation/reconstruct_evaluate.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/pipeline/identify.hpp"
+#include "tofnav/pipeline/identify_consensus.hpp"
 #include "tofnav/pipeline/reconstruct_correction.hpp"
 #include "tofnav/recording/hl2ss_calibration.hpp"
 #include "tofnav/recording/hl2ss_format.hpp"
@@ -123,47 +124,64 @@ double HeadAfterMedianMm(const DemoContext& ctx, const AhatRecording& recording,
   throw std::runtime_error("no head pixel was evaluated");
 }
 
-// The identification again without each of `ctx.stability_subsets` tenths of its frames: how far
-// each coefficient moves from the full run's (issue 40: C1 by at most 0.1 mm), and how far the
-// head's corrected depth moves with them (C1, C3 and C4 trade off: docs/correction.md 2.4).
+// The runs without a tenth of the frames each (issue 40 item 2: C1 by at most 0.1 mm): how far
+// each coefficient moves from the full run's, and how far the head's corrected depth moves with
+// them (C1, C3 and C4 trade off: docs/correction.md 2.4). With the consensus, also how far the
+// medoid moves when one of its runs is left out (pipeline/identify_consensus.hpp). `used` is the
+// run whose model the stage kept, `used_head_mm` its head median.
 DemoJson IdentificationStability(const DemoContext& ctx, const AhatRecording& recording,
-                                 const AhatCamera& camera, const SurfaceIndex& skin,
-                                 IdentifyRecordingOptions options, const DepthModelFile& full,
-                                 double full_head_mm) {
+                                 const AhatCamera& camera, const IdentifyConsensusResult& runs,
+                                 std::size_t used, double used_head_mm) {
   constexpr double kC1LimitMm = 0.1;  // issue 40 item 2
-  DemoJson runs = DemoJson::array();
+  const std::vector<DepthErrorModel> models = runs.Models();
+  std::vector<double> head_mm(models.size());
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    head_mm[i] =
+        i == used ? used_head_mm : HeadAfterMedianMm(ctx, recording, camera, runs.Run(i).file);
+  }
+  const DepthErrorModel& full = models.front();
+  DemoJson list = DemoJson::array();
   double max_c1_mm = 0.0, max_head_mm = 0.0;
-  for (int k = 0; k < ctx.stability_subsets; ++k) {
-    options.leave_out = FrameLeaveOut{k, 10};
-    const DepthModelFile file =
-        IdentifyFromRecording(
-            recording, camera, ctx.frf, &skin, options,
-            [&](std::size_t d, std::size_t t) { ctx.progress("identify without a tenth", d, t); })
-            .file;
+  for (std::size_t k = 0; k < runs.subsets.size(); ++k) {
     // Each run centres its references on its own samples: C1 compared at the full run's.
     const DepthErrorModel m =
-        file.model.WithReferences(full.model.theta_reference_rad, full.model.ab_reference);
-    const double head_change_mm = HeadAfterMedianMm(ctx, recording, camera, file) - full_head_mm;
-    max_c1_mm = std::max(max_c1_mm, std::abs(m.c1_mm - full.model.c1_mm));
+        models[k + 1].WithReferences(full.theta_reference_rad, full.ab_reference);
+    const double head_change_mm = head_mm[k + 1] - head_mm[0];
+    max_c1_mm = std::max(max_c1_mm, std::abs(m.c1_mm - full.c1_mm));
     // C1 at theta = 0 and AB = 130 counts, the uncentred form's (docs/correction.md 2.4).
     const double c1_origin_change_mm =
-        m.WithReferences(0.0, 130.0).c1_mm - full.model.WithReferences(0.0, 130.0).c1_mm;
+        m.WithReferences(0.0, 130.0).c1_mm - full.WithReferences(0.0, 130.0).c1_mm;
     max_head_mm = std::max(max_head_mm, std::abs(head_change_mm));
-    runs.push_back({{"left_out", "frame k with k % 10 == " + std::to_string(k)},
+    list.push_back({{"left_out", "frame k with k % 10 == " + std::to_string(k)},
                     {"C1_mm", m.c1_mm},
                     {"C2", m.c2},
                     {"C3_mm_per_rad", m.c3_mm},
                     {"C4_mm", m.c4_mm},
                     {"cyclic_error", CyclicErrorToJson(m.cyclic)},
-                    {"C1_change_mm", m.c1_mm - full.model.c1_mm},
+                    {"C1_change_mm", m.c1_mm - full.c1_mm},
                     {"C1_at_theta0_ab130_change_mm", c1_origin_change_mm},
                     {"head_after_median_change_mm", head_change_mm}});
   }
-  return {{"runs", runs},
-          {"max_C1_change_mm", max_c1_mm},
-          {"max_head_after_median_change_mm", max_head_mm},
-          {"acceptance",
-           DemoJson::array({Acceptance("max_C1_change_mm", max_c1_mm, "<=", kC1LimitMm)})}};
+  DemoJson out{{"runs", list},
+               {"max_C1_change_mm", max_c1_mm},
+               {"max_head_after_median_change_mm", max_head_mm},
+               {"acceptance",
+                DemoJson::array({Acceptance("max_C1_change_mm", max_c1_mm, "<=", kC1LimitMm)})}};
+  if (ctx.consensus) {
+    const ConsensusJackknife jack = JackknifeMedoid(models);
+    double max_consensus_head_mm = 0.0;
+    for (const std::size_t k : jack.kept_without_run) {
+      max_consensus_head_mm =
+          std::max(max_consensus_head_mm, std::abs(head_mm[k] - head_mm[runs.kept]));
+    }
+    out["consensus"] = {{"kept", runs.kept == 0 ? std::string("the full run")
+                                                : "without frame k with k % 10 == " +
+                                                      std::to_string(runs.kept - 1)},
+                        {"kept_run", runs.kept},
+                        {"max_C1_change_mm", jack.max_c1_change_mm},
+                        {"max_head_after_median_change_mm", max_consensus_head_mm}};
+  }
+  return out;
 }
 
 }  // namespace
@@ -196,9 +214,15 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
     options.start.cyclic = *ctx.stage_cyclic;
   }
   if (ctx.method == Method::kPaper) UsePaperIdentification(options);
-  const IdentifyRecordingResult identified =
-      IdentifyFromRecording(*s.recording, s.camera, ctx.frf, &skin, options,
-                            [&](std::size_t d, std::size_t t) { ctx.progress("identify", d, t); });
+  Require(!ctx.consensus || ctx.stability_subsets >= 2,
+          "the consensus needs at least 2 runs without a tenth of the frames (--stability)");
+  const IdentifyConsensusResult runs = IdentifyWithConsensus(
+      *s.recording, s.camera, ctx.frf, &skin, options, ctx.stability_subsets,
+      [&](int run, int, std::size_t d, std::size_t t) {
+        ctx.progress(run == 0 ? "identify" : "identify without a tenth", d, t);
+      });
+  const std::size_t used = ctx.consensus ? runs.kept : 0;
+  const IdentifyRecordingResult& identified = runs.Run(used);
   WriteDepthModelJson(ctx.out / "depth_model.json", identified.file);
   ctx.depth_model = identified.file;
   const DepthErrorModel& m = identified.file.model;
@@ -220,6 +244,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
       {"frames_with_reference_tool", identified.frames_with_reference_tool},
       {"frames_reference_rotation_smoothed", identified.frames_reference_rotation_smoothed},
       {"seconds", m.report.seconds}};
+  if (ctx.consensus) stage["model"]["consensus_of_runs"] = runs.subsets.size() + 1;
   stage["depth_model_json"] = "depth_model.json";
 
   const DepthEvaluation e = EvaluateDepthAgainstTruth(
@@ -247,8 +272,8 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   }
   Require(head_error != nullptr, "no head pixel was evaluated");
   if (ctx.stability_subsets > 0) {
-    stage["stability"] = IdentificationStability(ctx, *s.recording, s.camera, skin, options,
-                                                 identified.file, head_error->after_mm->median);
+    stage["stability"] = IdentificationStability(ctx, *s.recording, s.camera, runs, used,
+                                                 head_error->after_mm->median);
   }
   const double lo = std::floor(std::min(Quantile(head_error->before_errors_mm, 0.005),
                                         Quantile(head_error->after_errors_mm, 0.005)));

@@ -122,6 +122,14 @@ void PrintDemoTables(const DemoJson& demo) {
           "(%zu subsets; issue 40's limit 0.1 mm), the head's corrected median by %.3f mm\n",
           Number(s["stability"], "max_C1_change_mm"), s["stability"]["runs"].size(),
           Number(s["stability"], "max_head_after_median_change_mm"));
+      if (s["stability"].contains("consensus")) {
+        const DemoJson& c = s["stability"]["consensus"];
+        std::printf(
+            "   consensus: the medoid of the %zu runs kept (%s); with one run left out it moves "
+            "C1 by at most %.3f mm, the head's median by %.3f mm\n",
+            s["stability"]["runs"].size() + 1, c["kept"].get<std::string>().c_str(),
+            Number(c, "max_C1_change_mm"), Number(c, "max_head_after_median_change_mm"));
+      }
     }
     std::printf("   %-22s %9s %8s %6s %8s %6s %9s\n", "object", "pixels", "before", "IQR", "after",
                 "IQR", "reduction");

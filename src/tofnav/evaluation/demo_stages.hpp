@@ -41,6 +41,9 @@ struct DemoContext {
   /// > 0: the depth stage identifies again this many times, each time without another tenth of
   /// its frames (FrameLeaveOut subset k of 10), and reports how far C1 moves (issue 40 item 2).
   int stability_subsets = 0;
+  /// With stability_subsets >= 2: the model kept is the medoid of the full run and those runs
+  /// (pipeline/identify_consensus.hpp), not the full run's; its own stability is reported too.
+  bool consensus = false;
   /// The method of the stages after the session: tofnav's, or the paper's as published
   /// (pipeline/paper_method.hpp; its registration starts from a seeded hand placement).
   Method method = Method::kTofnav;

@@ -129,6 +129,7 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
   ctx.stream_profile = options.stream_profile;
   ctx.bitrate_bps = options.bitrate_bps;
   ctx.stability_subsets = options.stability_subsets;
+  ctx.consensus = options.consensus;
   ctx.method = options.method;
   ctx.stages = options.stages;
   if (!options.stages.empty()) row["stages_run"] = options.stages;
@@ -164,6 +165,11 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
     if (const SuiteJson& stability = At(At(stages, "depth"), "stability"); stability.is_object()) {
       row["stability_c1_mm"] = Num(stability, "max_C1_change_mm");
       row["stability_head_mm"] = Num(stability, "max_head_after_median_change_mm");
+      if (const SuiteJson& consensus = At(stability, "consensus"); consensus.is_object()) {
+        row["consensus_kept_run"] = Num(consensus, "kept_run");
+        row["consensus_c1_mm"] = Num(consensus, "max_C1_change_mm");
+        row["consensus_head_mm"] = Num(consensus, "max_head_after_median_change_mm");
+      }
     }
     const SuiteJson& rec = At(stages, "reconstruction");
     row["reconstruction_mm"] = Num(rec, "median_mm");

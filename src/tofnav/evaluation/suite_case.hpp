@@ -57,6 +57,9 @@ struct SuiteRunOptions {
   /// > 0: the depth stage's stability check (DemoContext), whose largest C1 and head-median
   /// changes go in the row as stability_c1_mm and stability_head_mm.
   int stability_subsets = 0;
+  /// With stability_subsets >= 2: the medoid of the runs is the model (DemoContext::consensus);
+  /// its own stability goes in the row as consensus_c1_mm and consensus_head_mm.
+  bool consensus = false;
   Method method = Method::kTofnav;  // the stages after the session: tofnav's or the paper's
   /// The stages to run, prerequisites included (DemoStagesWithPrerequisites); empty: all. The
   /// row then carries them as "stages_run" and its acceptance only the lines of those stages.

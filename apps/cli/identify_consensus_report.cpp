@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// tofnav identify --consensus: the runs and the one kept (docs/correction.md 2.9).
+#include "identify_consensus_report.hpp"
+
+#include <iostream>
+#include <string>
+
+namespace tofnav {
+
+nlohmann::ordered_json ConsensusToJson(const IdentifyConsensusResult& runs) {
+  nlohmann::ordered_json out = nlohmann::ordered_json::object();
+  if (runs.subsets.empty()) return out;
+  const DepthErrorModel& kept = runs.Kept().file.model;
+  out["kept_run"] = runs.kept;
+  out["runs"] = nlohmann::ordered_json::array();
+  for (std::size_t i = 0; i <= runs.subsets.size(); ++i) {
+    const DepthErrorModel& m = runs.Run(i).file.model;
+    out["runs"].push_back(
+        {{"left_out", i == 0 ? std::string("none") : "k % 10 == " + std::to_string(i - 1)},
+         {"c1_mm_at_kept_references",
+          m.WithReferences(kept.theta_reference_rad, kept.ab_reference).c1_mm},
+         {"c2", m.c2},
+         {"c3_mm", m.c3_mm},
+         {"c4_mm", m.c4_mm},
+         {"final_cost_mm2", m.report.final_cost},
+         {"distance_to_kept_mm", ModelDistanceMm(kept, m)}});
+  }
+  return out;
+}
+
+void PrintConsensus(const IdentifyConsensusResult& runs) {
+  const nlohmann::ordered_json j = ConsensusToJson(runs);
+  std::cout << "  consensus of " << runs.subsets.size() + 1
+            << " runs (each but the first without a tenth of the frames), the medoid kept "
+               "(docs/correction.md 2.9):\n";
+  for (std::size_t i = 0; i < j["runs"].size(); ++i) {
+    const nlohmann::ordered_json& r = j["runs"][i];
+    std::cout << "    " << (i == runs.kept ? "* " : "  ") << "left out "
+              << r["left_out"].get<std::string>() << ": C1 "
+              << r["c1_mm_at_kept_references"].get<double>() << " mm, C3 "
+              << r["c3_mm"].get<double>() << ", C4 " << r["c4_mm"].get<double>() << ", cost "
+              << r["final_cost_mm2"].get<double>() << " mm^2, "
+              << r["distance_to_kept_mm"].get<double>() << " mm from the kept\n";
+  }
+}
+
+}  // namespace tofnav

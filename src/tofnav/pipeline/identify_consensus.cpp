@@ -1,0 +1,111 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The identification's consensus over leave-a-tenth-out runs (docs/correction.md 2.9).
+#include "tofnav/pipeline/identify_consensus.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace tofnav {
+namespace {
+
+constexpr double kRangeTermAtMm = 500.0;  // C2's effect compared at the middle of AHAT's range
+constexpr int kTenths = 10;               // issue 40 item 2: a tenth of the frames left out
+
+// The medoid among models[i] for i in `members`: least sum of distances, ties to the first.
+std::size_t MedoidOf(const std::vector<DepthErrorModel>& models,
+                     const std::vector<std::size_t>& members) {
+  std::size_t best = members.front();
+  double best_sum = std::numeric_limits<double>::infinity();
+  for (const std::size_t i : members) {
+    double sum = 0.0;
+    for (const std::size_t j : members) sum += ModelDistanceMm(models[i], models[j]);
+    if (sum < best_sum) {
+      best_sum = sum;
+      best = i;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+double ModelDistanceMm(const DepthErrorModel& a, const DepthErrorModel& b) {
+  const DepthErrorModel b_at_a = b.WithReferences(a.theta_reference_rad, a.ab_reference);
+  const double dc1 = a.c1_mm - b_at_a.c1_mm;
+  const double dc2 = (a.c2 - b.c2) * kRangeTermAtMm;
+  const double dc3 = a.c3_mm - b.c3_mm;
+  const double dc4 = a.c4_mm - b.c4_mm;
+  // The cyclic error A sin(2 pi d / P + phi) as its two quadrature amplitudes (same period).
+  const double di = a.cyclic.amplitude_mm * std::cos(a.cyclic.phase_rad) -
+                    b.cyclic.amplitude_mm * std::cos(b.cyclic.phase_rad);
+  const double dq = a.cyclic.amplitude_mm * std::sin(a.cyclic.phase_rad) -
+                    b.cyclic.amplitude_mm * std::sin(b.cyclic.phase_rad);
+  return std::sqrt(dc1 * dc1 + dc2 * dc2 + dc3 * dc3 + dc4 * dc4 + di * di + dq * dq);
+}
+
+std::size_t MedoidIndex(const std::vector<DepthErrorModel>& models) {
+  if (models.empty()) throw std::invalid_argument("MedoidIndex: no models");
+  std::vector<std::size_t> all(models.size());
+  for (std::size_t i = 0; i < all.size(); ++i) all[i] = i;
+  return MedoidOf(models, all);
+}
+
+ConsensusJackknife JackknifeMedoid(const std::vector<DepthErrorModel>& models) {
+  const std::size_t kept = MedoidIndex(models);
+  const DepthErrorModel& m = models[kept];
+  ConsensusJackknife out;
+  for (std::size_t left = 1; left < models.size(); ++left) {
+    std::vector<std::size_t> rest;
+    for (std::size_t i = 0; i < models.size(); ++i) {
+      if (i != left) rest.push_back(i);
+    }
+    const std::size_t k = MedoidOf(models, rest);
+    out.kept_without_run.push_back(k);
+    const double c1 = models[k].WithReferences(m.theta_reference_rad, m.ab_reference).c1_mm;
+    out.max_c1_change_mm = std::max(out.max_c1_change_mm, std::abs(c1 - m.c1_mm));
+  }
+  return out;
+}
+
+const IdentifyRecordingResult& IdentifyConsensusResult::Run(std::size_t i) const {
+  return i == 0 ? full : subsets.at(i - 1);
+}
+
+std::vector<DepthErrorModel> IdentifyConsensusResult::Models() const {
+  std::vector<DepthErrorModel> models{full.file.model};
+  for (const IdentifyRecordingResult& s : subsets) models.push_back(s.file.model);
+  return models;
+}
+
+IdentifyConsensusResult IdentifyWithConsensus(
+    const AhatRecording& recording, const AhatCamera& camera,
+    const std::optional<MarkerRangeModel>& marker_range, const SurfaceIndex* skin,
+    const IdentifyRecordingOptions& options, int subsets,
+    const std::function<void(int, int, std::size_t, std::size_t)>& progress) {
+  if (subsets < 0 || subsets > kTenths) {
+    throw std::invalid_argument("consensus: " + std::to_string(subsets) +
+                                " subsets; 0 to 10 (each leaves a tenth out)");
+  }
+  const int runs = subsets + 1;
+  const auto report = [&](int run) {
+    return [&progress, run, runs](std::size_t done, std::size_t total) {
+      if (progress) progress(run, runs, done, total);
+    };
+  };
+  IdentifyConsensusResult out;
+  IdentifyRecordingOptions run_options = options;
+  run_options.leave_out.reset();
+  out.full = IdentifyFromRecording(recording, camera, marker_range, skin, run_options, report(0));
+  for (int k = 0; k < subsets; ++k) {
+    run_options.leave_out = FrameLeaveOut{k, kTenths};
+    out.subsets.push_back(
+        IdentifyFromRecording(recording, camera, marker_range, skin, run_options, report(k + 1)));
+  }
+  out.kept = MedoidIndex(out.Models());
+  return out;
+}
+
+}  // namespace tofnav

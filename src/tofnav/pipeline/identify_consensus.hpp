@@ -1,0 +1,62 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The identification as a consensus of runs that each leave a tenth of the frames out, the
+// medoid kept (issue 40 item 2; docs/correction.md 2.9).
+#pragma once
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "tofnav/casefile/depth_model_json.hpp"
+#include "tofnav/correction/depth_error_model.hpp"
+#include "tofnav/pipeline/identify.hpp"
+
+namespace tofnav {
+
+/// How far apart two identified models are, in millimetres of their effect: the Euclidean norm
+/// of the differences of C1 (compared at a's references), C3 (mm per unit of the angle term),
+/// C4, C2 times 500 mm (the middle of AHAT's range) and the cyclic error's in-phase and
+/// quadrature amplitudes (docs/correction.md 2.9).
+double ModelDistanceMm(const DepthErrorModel& a, const DepthErrorModel& b);
+
+/// The index of the medoid of `models`: the one with the least sum of ModelDistanceMm to the
+/// others; ties go to the lowest index (the full run, first). Throws std::invalid_argument when
+/// `models` is empty.
+std::size_t MedoidIndex(const std::vector<DepthErrorModel>& models);
+
+/// The medoid's own stability, as cheap as its runs: each subset run (never the full one) left out
+/// of the consensus in turn, the medoid of the rest, and the largest change of its C1 (at the
+/// medoid's references) from the medoid of all.
+struct ConsensusJackknife {
+  double max_c1_change_mm = 0.0;
+  std::vector<std::size_t> kept_without_run;  // per subset run k: the medoid without run k + 1
+};
+ConsensusJackknife JackknifeMedoid(const std::vector<DepthErrorModel>& models);
+
+struct IdentifyConsensusResult {
+  IdentifyRecordingResult full;                  // every picked frame
+  std::vector<IdentifyRecordingResult> subsets;  // subset k leaves out picked frame j, j % 10 == k
+  std::size_t kept = 0;                          // 0: the full run; k + 1: subset k
+  /// Run i: 0 the full one, k + 1 subset k (throws std::out_of_range beyond them).
+  const IdentifyRecordingResult& Run(std::size_t i) const;
+  const IdentifyRecordingResult& Kept() const { return Run(kept); }
+  /// Every run's model, the full run first.
+  std::vector<DepthErrorModel> Models() const;
+};
+
+/// IdentifyFromRecording on every picked frame, then on `subsets` sets that each leave a tenth of
+/// them out (subset k: FrameLeaveOut{k, 10}), and the medoid kept: a session near the balance of
+/// Err_C's terms lands in one of two minima depending on which frames it saw, and the medoid
+/// follows the answer most of them give (docs/correction.md 2.9). `subsets` in [0, 10] (throws
+/// std::invalid_argument otherwise): with none the full run alone, with one the full run kept (a
+/// tie) and the subset a stability check only. `progress(run, runs, done, total)`, run 0 the
+/// full one.
+IdentifyConsensusResult IdentifyWithConsensus(
+    const AhatRecording& recording, const AhatCamera& camera,
+    const std::optional<MarkerRangeModel>& marker_range, const SurfaceIndex* skin,
+    const IdentifyRecordingOptions& options, int subsets,
+    const std::function<void(int, int, std::size_t, std::size_t)>& progress = {});
+
+}  // namespace tofnav

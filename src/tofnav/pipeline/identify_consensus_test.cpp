@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: BSD-3-Clause
+// The identification's consensus (issue 40 item 2): the distance between models, the medoid and
+// its jackknife.
+#include "tofnav/pipeline/identify_consensus.hpp"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+#include <vector>
+
+namespace tofnav {
+namespace {
+
+// Re-expressing a model at other references and the distances are closed forms: only rounding.
+constexpr double kExactMm = 1e-9;
+
+DepthErrorModel Model(double c1_mm, double c3_mm, double c4_mm) {
+  DepthErrorModel m = IntensityFormModel();
+  m.c1_mm = c1_mm;
+  m.c3_mm = c3_mm;
+  m.c4_mm = c4_mm;
+  m.theta_reference_rad = 0.6;
+  m.ab_reference = 90.0;
+  return m;
+}
+
+TEST(ModelDistance, TheSameBiasAtOtherReferencesIsNoDistance) {
+  const DepthErrorModel a = Model(9.2, 6.0, 3.1);
+  EXPECT_NEAR(ModelDistanceMm(a, a.WithReferences(0.2, 160.0)), 0.0, kExactMm);
+  EXPECT_NEAR(ModelDistanceMm(a.WithReferences(0.2, 160.0), a), 0.0, kExactMm);
+}
+
+TEST(ModelDistance, EachTermCountsInMillimetresOfItsEffect) {
+  const DepthErrorModel a = Model(9.0, 2.0, 3.0);
+  EXPECT_NEAR(ModelDistanceMm(a, Model(9.0, 5.0, 7.0)), 5.0, kExactMm);  // 3-4-5
+  DepthErrorModel b = a;
+  b.use_range_term = true;
+  b.c2 = 0.001;  // 0.5 mm at 500 mm
+  EXPECT_NEAR(ModelDistanceMm(a, b), 0.5, kExactMm);
+  DepthErrorModel c = a, d = a;
+  c.cyclic = {1.0, 351.7, 0.0};
+  d.cyclic = {1.0, 351.7, std::numbers::pi};  // the opposite phase: 2 A apart
+  EXPECT_NEAR(ModelDistanceMm(c, d), 2.0, kExactMm);
+}
+
+// The mechanism of the suite's worst stability case (docs/correction.md 2.9): the full run in one
+// minimum, most subsets in the other.
+TEST(Consensus, TheMedoidFollowsTheMinimumMostRunsReach) {
+  const std::vector<DepthErrorModel> runs{Model(9.21, 5.99, 3.10), Model(8.76, 2.18, 3.78),
+                                          Model(9.20, 5.97, 3.10), Model(8.72, 2.26, 3.77),
+                                          Model(8.68, 2.27, 3.76), Model(8.73, 2.20, 3.78)};
+  const std::size_t kept = MedoidIndex(runs);
+  EXPECT_NE(kept, 0u);
+  EXPECT_NEAR(runs[kept].c3_mm, 2.2, 0.1);
+  // Leaving any one run out keeps a model of the same minimum: C1 moves by tenths at most of
+  // the 0.5 mm between the minima.
+  const ConsensusJackknife jack = JackknifeMedoid(runs);
+  EXPECT_EQ(jack.kept_without_run.size(), 5u);
+  EXPECT_LT(jack.max_c1_change_mm, 0.1);
+}
+
+TEST(Consensus, TiesGoToTheFullRunAndAnEvenSplitIsUnstable) {
+  const std::vector<DepthErrorModel> same(4, Model(9.0, 2.0, 3.0));
+  EXPECT_EQ(MedoidIndex(same), 0u);
+  EXPECT_NEAR(JackknifeMedoid(same).max_c1_change_mm, 0.0, kExactMm);
+  // Three and three: leaving one out of the medoid's side hands the medoid to the other side,
+  // and the jackknife says so (C1 0.5 mm apart at the same references).
+  const std::vector<DepthErrorModel> split{Model(9.2, 6.0, 3.1), Model(9.2, 6.0, 3.1),
+                                           Model(9.2, 6.0, 3.1), Model(8.7, 2.2, 3.8),
+                                           Model(8.7, 2.2, 3.8), Model(8.7, 2.2, 3.8)};
+  EXPECT_EQ(MedoidIndex(split), 0u);
+  EXPECT_NEAR(JackknifeMedoid(split).max_c1_change_mm, 0.5, kExactMm);
+  EXPECT_THROW(MedoidIndex({}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace tofnav
