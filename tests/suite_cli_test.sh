@@ -64,7 +64,9 @@ assert s["cases"] == 2, s
 values = [r["tracking_mm"] for r in out["rows"] if r.get("tracking_mm") is not None]
 if values:
     assert abs(s["tracking_mm"]["worst"] - max(values)) < 1e-12, (s, values)
-assert "Spread over seeds" in open(os.path.join(d, "suite.html")).read()
+html = open(os.path.join(d, "suite.html")).read()
+assert "Spread over seeds" in html
+assert "Identification stability" in html and "consensus kept" in html
 # --stability 2 --consensus: each row carries its depth stage's stability figures, and the spread
 # their worst; the medoid of the three runs is kept, and its own stability is reported.
 for r in out["rows"]:

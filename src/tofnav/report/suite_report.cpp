@@ -74,6 +74,38 @@ std::string SpreadTable(const Json& spread) {
              cells);
 }
 
+// A figure against one of issue 40's stability limits: red above it.
+std::string Limited(const Json& row, const char* figure, double limit) {
+  const double v = Number(row, figure);
+  if (std::isnan(v)) return "-";
+  return "<span class=\"" + std::string(v <= limit ? "ok" : "missed") + "\">" + Cell(v) + "</span>";
+}
+
+// With --stability: per run, how far C1 and the head's corrected median move when a tenth of the
+// frames is left out (issue 40 item 2: 0.1 and 0.05 mm), and with --consensus the run kept and
+// how far the medoid moves when one of its runs is left out (docs/correction.md 2.9).
+std::string StabilityTable(const Json& rows) {
+  constexpr double kC1LimitMm = 0.1, kHeadLimitMm = 0.05;
+  std::vector<std::vector<std::string>> cells;
+  for (const Json& row : rows) {
+    if (!row.contains("stability_c1_mm")) continue;
+    const double kept = Number(row, "consensus_kept_run");
+    cells.push_back({EscapeXml(Text(row, "name")), Limited(row, "stability_c1_mm", kC1LimitMm),
+                     Limited(row, "stability_head_mm", kHeadLimitMm),
+                     std::isnan(kept) ? "-"
+                     : kept == 0.0    ? "the full run"
+                                   : "without tenth " + std::to_string(static_cast<int>(kept) - 1),
+                     Limited(row, "consensus_c1_mm", kC1LimitMm),
+                     Limited(row, "consensus_head_mm", kHeadLimitMm)});
+  }
+  if (cells.empty()) return "";
+  return "<h2>Identification stability (a tenth of the frames left out)</h2>\n" +
+         report_internal::Table(
+             {"case", "C1 change [mm]", "head median change [mm]", "consensus kept",
+              "consensus C1 change [mm]", "consensus head change [mm]"},
+             cells);
+}
+
 }  // namespace
 
 std::string RenderSuiteHtml(const std::filesystem::path& suite_json) {
@@ -107,6 +139,7 @@ std::string RenderSuiteHtml(const std::filesystem::path& suite_json) {
        "wall [s]", "error"},
       cells);
   if (suite.contains("spread")) html += SpreadTable(suite.at("spread"));
+  html += StabilityTable(rows);
   const Json& summary = report_internal::Field(suite, "summary");
   html += "<h2>Summary</h2>\n<pre>" + EscapeXml(summary.dump(2)) + "</pre>\n";
   if (!names.empty()) {
