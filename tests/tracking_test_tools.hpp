@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -23,6 +24,23 @@ inline ToolGeometry SecondTool() {
   ToolGeometry tool;
   tool.name = "Pointer";
   tool.markers_in_tool = SecondToolMarkers();
+  return tool;
+}
+
+/// Two flat plates of four Phi 10 mm discs, the second `offset_mm` along x and turned
+/// `turn_deg` about y against the first, as one tool (a headframe's two reference plates).
+inline ToolGeometry TwoPlateDiscTool(const std::vector<Eigen::Vector3d>& plate, double offset_mm,
+                                     double turn_deg) {
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(turn_deg * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  ToolGeometry tool;
+  tool.name = "two_plates";
+  tool.marker_type = MarkerType::kDisc;
+  tool.marker_diameter_mm = 10.0;
+  for (const Eigen::Vector3d& p : plate) tool.markers_in_tool.push_back(p);
+  for (const Eigen::Vector3d& p : plate) {
+    tool.markers_in_tool.push_back(Eigen::Vector3d(offset_mm, 0, 0) + turn * p);
+  }
   return tool;
 }
 

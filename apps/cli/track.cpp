@@ -110,10 +110,10 @@ int RunTrack(int argc, char** argv) {
   bool keep_void_poses = false;
   app.add_flag("--keep-void-poses", keep_void_poses,
                "keep poses that put an unmatched marker where the image shows empty space");
-  bool keep_damaged = false, no_outlier_check = false;
-  app.add_flag("--keep-damaged", keep_damaged,
-               "keep markers whose blob is occluded or touches another in the pose (default: "
-               "left out when enough whole ones remain; docs/tracking.md 6)");
+  bool drop_damaged = false, no_outlier_check = false;
+  app.add_flag("--drop-damaged", drop_damaged,
+               "leave markers whose blob is occluded or touches another out of the pose when "
+               "enough whole ones remain (default: kept; docs/tracking.md 6)");
   app.add_flag("--no-outlier-check", no_outlier_check,
                "no leave-one-out check of the markers' residuals (docs/tracking.md 6)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
@@ -135,7 +135,7 @@ int RunTrack(int argc, char** argv) {
   options.rotation_in_world = !ahat_filter;
   if (method == Method::kPaper) UsePaperTracking(options);
   options.pose.refuse_void_poses = !keep_void_poses;
-  if (keep_damaged) options.pose.robust.drop_damaged = false;
+  if (drop_damaged) options.pose.robust.drop_damaged = true;
   if (no_outlier_check) options.pose.robust.check_outliers = false;
   const MarkerSource source = OpenMarkerSource(source_args);
   ProgressBar progress("track", quiet || json);

@@ -62,7 +62,16 @@ void DefineMarkers(py::module_& m) {
       .def_readwrite("surface_range_mm", &DetectedMarker::surface_range_mm,
                      "measured range to the marker surface (input of Eq. (2); writable)")
       .def_readonly("area_px", &DetectedMarker::area_px)
-      .def_readonly("ab_peak", &DetectedMarker::ab_peak);
+      .def_readonly("ab_peak", &DetectedMarker::ab_peak)
+      .def_property_readonly(
+          "occluded", [](const DetectedMarker& d) { return d.damage.occluded; },
+          "part of its rim borders pixels clearly nearer (docs/tracking.md 6)")
+      .def_property_readonly(
+          "near_blob", [](const DetectedMarker& d) { return d.damage.near_blob; },
+          "another blob touches it (docs/tracking.md 6)")
+      .def_property_readonly(
+          "occluder_px", [](const DetectedMarker& d) { return d.damage.occluder_px; },
+          "pixels of the occluder ring clearly nearer than the marker");
   m.def(
       "locate_markers",
       [](const AhatFrame& frame, const AhatCamera& camera, double ab_threshold,

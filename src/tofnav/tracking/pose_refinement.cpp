@@ -6,7 +6,6 @@
 #include <cmath>
 #include <vector>
 
-#include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/markers/marker_centre.hpp"
 #include "tofnav/tracking/ray_pose.hpp"
@@ -14,21 +13,19 @@
 namespace tofnav {
 namespace {
 
-constexpr double kMaxPlanarityRmsMm = 1.0;  // a tool flatter than this carries its discs' plane
+constexpr double kMaxPlanarityRmsMm = 1.0;  // a plate flatter than this carries its discs' plane
 constexpr double kMinPlaneCosine = 0.2;     // grazing views keep the face-on range
 
-// Unit normal of a planar tool's markers in the tool frame, or nullopt when not planar.
-std::optional<Eigen::Vector3d> ToolPlaneNormal(const Points3d& markers) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& m : markers) mean += m;
-  mean /= static_cast<double>(markers.size());
-  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3d& m : markers) cov += (m - mean) * (m - mean).transpose();
-  const auto eig = DecomposeSymmetric(cov);
-  const double rms_mm =
-      std::sqrt(std::max(0.0, eig.values(0)) / static_cast<double>(markers.size()));
-  if (rms_mm > kMaxPlanarityRmsMm) return std::nullopt;
-  return eig.vectors.col(0);
+// Per tool marker, the unit normal of its flat plate in the tool frame (MarkerPlates: the whole
+// tool's plane, or one plane per plate of a tool built from several), or nullopt off a plate.
+std::vector<std::optional<Eigen::Vector3d>> PlateNormals(const ToolGeometry& tool) {
+  std::vector<std::optional<Eigen::Vector3d>> normals;
+  for (const MarkerPlate& p : MarkerPlates(tool)) {
+    normals.push_back(p.flatness_rms_mm <= kMaxPlanarityRmsMm
+                          ? std::optional<Eigen::Vector3d>(p.normal_in_tool)
+                          : std::nullopt);
+  }
+  return normals;
 }
 
 // Range and sigma of one marker: with `normal` (a flat disc's normal in ahat), each core pixel
@@ -84,9 +81,9 @@ std::optional<Rigid3d> RefineToolPose(std::span<const DetectedMarker> detections
                                       const Rigid3d& initial_ahat_from_tool,
                                       const PoseRefinementOptions& options) {
   options.Check();
-  std::optional<Eigen::Vector3d> normal_in_tool;
+  std::vector<std::optional<Eigen::Vector3d>> normals_in_tool(marker_detection.size());
   if (options.disc_plane_ranges && tool.marker_type == MarkerType::kDisc) {
-    normal_in_tool = ToolPlaneNormal(tool.markers_in_tool);
+    normals_in_tool = PlateNormals(tool);
   }
   Points3d markers;
   for (std::size_t k = 0; k < marker_detection.size(); ++k) {
@@ -95,14 +92,17 @@ std::optional<Rigid3d> RefineToolPose(std::span<const DetectedMarker> detections
     if (!(detections[static_cast<std::size_t>(s)].pixel_pitch_rad > 0.0)) return std::nullopt;
     markers.push_back(tool.markers_in_tool[k]);
   }
+  const bool on_plates = std::any_of(normals_in_tool.begin(), normals_in_tool.end(),
+                                     [](const auto& n) { return n.has_value(); });
   Rigid3d pose = initial_ahat_from_tool;
-  const int passes = normal_in_tool ? options.passes : 1;
+  const int passes = on_plates ? options.passes : 1;
   for (int pass = 0; pass < passes; ++pass) {
-    std::optional<Eigen::Vector3d> normal;
-    if (normal_in_tool) normal = pose.rotation * *normal_in_tool;
     std::vector<RayRangeObservation> observations;
-    for (const int s : marker_detection) {
+    for (std::size_t k = 0; k < marker_detection.size(); ++k) {
+      const int s = marker_detection[k];
       if (s < 0) continue;
+      std::optional<Eigen::Vector3d> normal;
+      if (normals_in_tool[k]) normal = pose.rotation * *normals_in_tool[k];
       const auto i = static_cast<std::size_t>(s);
       observations.push_back(Observe(detections[i], centres[i], normal, options));
     }

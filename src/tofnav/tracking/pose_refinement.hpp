@@ -24,9 +24,10 @@ struct PoseRefinementOptions {
   /// Range sigma of a marker: 1.4826 MAD of its core ranges / sqrt(core pixels), at least this
   /// floor [mm] (AHAT ranges come in 1 mm steps; a lower floor trusts noisy MADs and loses).
   double range_sigma_floor_mm = 1.0;
-  /// Flat tape on a planar tool: each core pixel's range is moved along the tool plane (at the
-  /// current pose) onto the marker ray, removing the range ramp of a tilted disc whose core
-  /// pixels sit off its centre. Sphere or non-planar tools use the detected centre range.
+  /// Flat tape on a flat plate: each core pixel's range is moved along the disc's plate (at the
+  /// current pose; MarkerPlates: the whole tool, or each plate of a tool built from several)
+  /// onto the marker ray, removing the range ramp of a tilted disc whose core pixels sit off its
+  /// centre. Spheres and discs off any flat plate use the detected centre range.
   bool disc_plane_ranges = true;
   int passes = 2;      // refinements, each with the plane of the previous pose (disc_plane_ranges)
   void Check() const;  // throws std::invalid_argument naming the bad field

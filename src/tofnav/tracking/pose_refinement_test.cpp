@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <utility>
+
 #include "matchers.hpp"
 #include "tofnav/markers/marker_centre.hpp"
 #include "tracking_test_tools.hpp"
@@ -37,6 +39,21 @@ DetectedMarker OffCentreDisc(const Eigen::Vector3d& centre, const Eigen::Vector3
   return d;
 }
 
+// The pose refined from `start` with the discs' plate ranges (the default) and with their face-on
+// ranges (disc_plane_ranges off), both required to converge.
+std::pair<Rigid3d, Rigid3d> RefineBothWays(const std::vector<DetectedMarker>& d,
+                                           const ToolGeometry& tool, const Rigid3d& start) {
+  const Points3d centres = MarkerCentres(d, 0.0);
+  std::vector<int> index(d.size());
+  for (std::size_t k = 0; k < d.size(); ++k) index[k] = static_cast<int>(k);
+  PoseRefinementOptions face_on;
+  face_on.disc_plane_ranges = false;
+  const std::optional<Rigid3d> plane = RefineToolPose(d, index, tool, centres, start);
+  const std::optional<Rigid3d> ramp = RefineToolPose(d, index, tool, centres, start, face_on);
+  EXPECT_TRUE(plane && ramp);
+  return {plane.value_or(Rigid3d()), ramp.value_or(Rigid3d())};
+}
+
 TEST(RefineToolPose, PlaneRangesRemoveTheRampOfOffCentreCoresOnATiltedTool) {
   constexpr double kRotTolRad = 1e-6, kTransTolMm = 1e-4;  // float rays and ranges
   ToolGeometry tool;
@@ -49,20 +66,40 @@ TEST(RefineToolPose, PlaneRangesRemoveTheRampOfOffCentreCoresOnATiltedTool) {
   std::vector<DetectedMarker> d;
   for (const Eigen::Vector3d& m : tool.markers_in_tool)
     d.push_back(OffCentreDisc(truth * m, normal));
+  const Rigid3d start = testing::FacingToolPose({21.0, -9.0, 502.0}, 0.68, 0.31);
+  const auto [plane, ramp] = RefineBothWays(d, tool, start);
+  EXPECT_THAT(plane, RigidNear(truth, kRotTolRad, kTransTolMm));
+  EXPECT_GT(RotationDistanceRad(ramp, truth), 100.0 * kRotTolRad);  // the ramp's tilt
   const Points3d centres = MarkerCentres(d, 0.0);
   const std::vector<int> index = {0, 1, 2, 3};
-  const Rigid3d start = testing::FacingToolPose({21.0, -9.0, 502.0}, 0.68, 0.31);
-  PoseRefinementOptions face_on;
-  face_on.disc_plane_ranges = false;
-  const std::optional<Rigid3d> plane = RefineToolPose(d, index, tool, centres, start);
-  const std::optional<Rigid3d> ramp = RefineToolPose(d, index, tool, centres, start, face_on);
-  ASSERT_TRUE(plane && ramp);
-  EXPECT_THAT(*plane, RigidNear(truth, kRotTolRad, kTransTolMm));
-  EXPECT_GT(RotationDistanceRad(*ramp, truth), 100.0 * kRotTolRad);  // the ramp's tilt
   d[2].pixel_pitch_rad = 0.0;  // hand-made detection: no refinement
   EXPECT_FALSE(RefineToolPose(d, index, tool, centres, start).has_value());
-  face_on.passes = 0;
-  EXPECT_THROW(RefineToolPose(d, index, tool, centres, start, face_on), std::invalid_argument);
+  PoseRefinementOptions no_pass;
+  no_pass.passes = 0;
+  EXPECT_THROW(RefineToolPose(d, index, tool, centres, start, no_pass), std::invalid_argument);
+}
+
+// A headframe's two flat plates tracked as one disc tool (not planar as a whole): each disc's
+// range is carried along its own plate, and the pose comes out exact; the old rule (the whole
+// tool's plane, or none when the tool is not flat) kept the ramp's error.
+TEST(RefineToolPose, PlaneRangesFollowEachPlateOfATwoPlateTool) {
+  // float rays and ranges, and two passes each taking the plates at the previous pose
+  constexpr double kRotTolRad = 1e-5, kTransTolMm = 1e-3;
+  const ToolGeometry tool =
+      testing::TwoPlateDiscTool({{-35, -5, 0}, {30, 0, 0}, {5, -30, 0}, {-5, 42, 0}}, 160.0, 40.0);
+  const Eigen::Matrix3d turn =
+      Eigen::AngleAxisd(40.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const Rigid3d truth = testing::FacingToolPose({-60.0, -10.0, 550.0}, 0.5, 0.2);
+  std::vector<DetectedMarker> d;
+  for (std::size_t k = 0; k < 8; ++k) {
+    const Eigen::Vector3d plate = k < 4 ? Eigen::Vector3d(Eigen::Vector3d::UnitZ()) : turn.col(2);
+    d.push_back(OffCentreDisc(truth * tool.markers_in_tool[k], truth.rotation * plate));
+  }
+  const Rigid3d start = testing::FacingToolPose({-59.0, -9.0, 552.0}, 0.48, 0.21);
+  const auto [plates, ramp] = RefineBothWays(d, tool, start);
+  EXPECT_THAT(plates, RigidNear(truth, kRotTolRad, kTransTolMm));
+  EXPECT_GT((ramp.translation - truth.translation).norm(), 30.0 * kTransTolMm);
+  EXPECT_GT(RotationDistanceRad(ramp, truth), 30.0 * kRotTolRad);
 }
 
 }  // namespace

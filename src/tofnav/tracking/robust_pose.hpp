@@ -33,7 +33,10 @@ bool InPose(MarkerUse use);
 
 struct RobustPoseOptions {
   /// Leave damaged markers (MarkerDamage::Any) out when max(3, min_visible) whole ones remain.
-  bool drop_damaged = true;
+  /// Off by default: a flagged marker's centroid is usually still good to a few tenths of a
+  /// millimetre, and a pose on one marker fewer is worse (docs/tracking.md 6); the residual check
+  /// still drops a damaged marker that disagrees with the others.
+  bool drop_damaged = false;
   /// Check the used markers' residuals against the noise model; with >= 4 markers, leave out
   /// the one whose removal makes the rest consistent (3 markers cannot tell which is wrong).
   bool check_outliers = true;

@@ -118,11 +118,13 @@ Eigen::Vector3d MarkerPlaneNormal(const ToolGeometry& tool) {
   return ComputePrincipalAxes(tool.markers_in_tool).axes.col(2);  // the least spread
 }
 
-std::vector<Eigen::Vector3d> MarkerPlaneNormals(const ToolGeometry& tool) {
+std::vector<MarkerPlate> MarkerPlates(const ToolGeometry& tool) {
   const Points3d& m = tool.markers_in_tool;
-  const Eigen::Vector3d whole = MarkerPlaneNormal(tool);
-  std::vector<Eigen::Vector3d> normals(m.size(), whole);
-  if (m.size() <= 4) return normals;  // a marker and its three nearest: the whole tool
+  const PrincipalAxes all = ComputePrincipalAxes(m);
+  const MarkerPlate whole{all.axes.col(2),
+                          all.spreads(2) / std::sqrt(static_cast<double>(m.size()))};
+  std::vector<MarkerPlate> plates(m.size(), whole);
+  if (m.size() <= 4) return plates;  // a marker and its three nearest: the whole tool
   for (std::size_t k = 0; k < m.size(); ++k) {
     std::vector<std::size_t> order(m.size());
     for (std::size_t i = 0; i < m.size(); ++i) order[i] = i;
@@ -131,11 +133,17 @@ std::vector<Eigen::Vector3d> MarkerPlaneNormals(const ToolGeometry& tool) {
                         return (m[a] - m[k]).squaredNorm() < (m[b] - m[k]).squaredNorm();
                       });
     const Points3d local = {m[order[0]], m[order[1]], m[order[2]], m[order[3]]};
-    const std::vector<double> s = SingularValues(local);
-    if (s.size() >= 2 && s[1] / 2.0 >= kCollinearMm) {
-      normals[k] = ComputePrincipalAxes(local).axes.col(2);
+    const PrincipalAxes axes = ComputePrincipalAxes(local);
+    if (axes.spreads(1) / 2.0 >= kCollinearMm) {
+      plates[k] = {axes.axes.col(2), axes.spreads(2) / 2.0};  // sqrt(4) points
     }
   }
+  return plates;
+}
+
+std::vector<Eigen::Vector3d> MarkerPlaneNormals(const ToolGeometry& tool) {
+  std::vector<Eigen::Vector3d> normals;
+  for (const MarkerPlate& p : MarkerPlates(tool)) normals.push_back(p.normal_in_tool);
   return normals;
 }
 

@@ -46,6 +46,15 @@ Eigen::Vector3d MarkerPlaneNormal(const ToolGeometry& tool);
 /// arbitrary.
 std::vector<Eigen::Vector3d> MarkerPlaneNormals(const ToolGeometry& tool);
 
+/// A marker's plate as MarkerPlaneNormals finds it: the plane's unit normal in `tool` and the RMS
+/// distance of the markers that define it (the marker and its three nearest, or the whole tool)
+/// from that plane [mm]: about 0 on a flat plate.
+struct MarkerPlate {
+  Eigen::Vector3d normal_in_tool;
+  double flatness_rms_mm = 0.0;
+};
+std::vector<MarkerPlate> MarkerPlates(const ToolGeometry& tool);
+
 /// How distinct a tool is from itself under relabelling and from others (docs/tracking.md 9.7).
 struct ToolGeometryReport {
   std::vector<double> distances_mm;  // |m_i - m_j| for i < j, in order (0,1), (0,2), ..

@@ -74,17 +74,10 @@ TEST(AnalyzeToolGeometry, FindsSymmetryAndTellsMirrorTwinsApart) {
 // the whole tool's plane would be off by about 20 deg for both.
 TEST(MarkerPlaneNormals, EachDiscGetsItsOwnPlatesNormal) {
   constexpr double kTolRad = 1e-9;  // exact geometry: only rounding
-  const Eigen::Vector3d layout[] = {{0, 0, 0}, {35, 0, 0}, {0, 28, 0}, {30, 40, 0}};
+  ToolGeometry tool =
+      testing::TwoPlateDiscTool({{0, 0, 0}, {35, 0, 0}, {0, 28, 0}, {30, 40, 0}}, 200.0, 40.0);
   const Eigen::Matrix3d turn =
       Eigen::AngleAxisd(40.0 * M_PI / 180.0, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  ToolGeometry tool;
-  tool.name = "two_plates";
-  tool.marker_type = MarkerType::kDisc;
-  tool.marker_diameter_mm = 10.0;
-  for (const Eigen::Vector3d& p : layout) tool.markers_in_tool.push_back(p);
-  for (const Eigen::Vector3d& p : layout) {
-    tool.markers_in_tool.push_back(Eigen::Vector3d(200, 0, 0) + turn * p);
-  }
   const std::vector<Eigen::Vector3d> normals = MarkerPlaneNormals(tool);
   ASSERT_EQ(normals.size(), 8u);
   for (std::size_t k = 0; k < 8; ++k) {
@@ -92,6 +85,13 @@ TEST(MarkerPlaneNormals, EachDiscGetsItsOwnPlatesNormal) {
         k < 4 ? Eigen::Vector3d(Eigen::Vector3d::UnitZ()) : Eigen::Vector3d(turn.col(2));
     EXPECT_NEAR(std::abs(normals[k].dot(plate)), 1.0, kTolRad) << k;
   }
+  constexpr double kFlatTolMm = 1e-6;  // the square root of a rounding-level eigenvalue
+  for (const MarkerPlate& p : MarkerPlates(tool)) EXPECT_NEAR(p.flatness_rms_mm, 0.0, kFlatTolMm);
+  // A marker lifted 8 mm off its plate: the four that define its plane are 3-4 mm off theirs
+  // (rms of a 4-point plane fit of one point 8 mm up: 8 sqrt(3) / 4 / 2 = 1.7 mm).
+  tool.markers_in_tool[3].z() = 8.0;
+  EXPECT_GT(MarkerPlates(tool)[3].flatness_rms_mm, 1.0);
+  tool.markers_in_tool[3].z() = 0.0;
   // One flat plate: every marker's normal is the plate's.
   tool.markers_in_tool.resize(4);
   for (const Eigen::Vector3d& n : MarkerPlaneNormals(tool)) {
