@@ -28,6 +28,8 @@ def test_tool_tracker_recovers_the_true_pose(simulated):
         frame = recording.read_frame(i)
         markers = tofnav.locate_markers(frame, camera)
         assert len(markers) == 6
+        # nothing in front of the board and its markers far apart: no damage flag (docs/tracking.md 6)
+        assert not any(m.occluded or m.near_blob for m in markers)
         (tracked,) = tracker.track(markers, frame.timestamp_s)
         assert tracked.status == "ok"
         assert tracked.visible_markers == 6
