@@ -48,11 +48,15 @@ struct Errors {
 // direction against the truth, over all nine trajectories and every tracked frame.
 TEST(NavigationE2E, EvdUseCaseEntryAndDirectionErrorsWithTrueRegistration) {
   constexpr double kMaxEntryMm = 1.0, kMaxDirectionDeg = 1.0;  // issue 8 acceptance
-  // Per-frame tracking noise over a 150 mm lever: disc plates stay 0.5-1 deg off for a second at
-  // a time on the calibrated simulator (docs/tracking.md 1), 1.3-2.6 mm at the entry. The tail is
-  // a few such stretches: session 32's wiggle phase alone, which the true f_rf removes, moved
-  // this draw's p95 from 1.93 to 2.10 mm (docs/navigation.md 5).
-  constexpr double kMaxEntryP95Mm = 2.25;
+  // Per-frame tracking noise over a 150 mm lever: raw, the disc plates' tilt is 0.5-1 deg off
+  // for a second at a time (docs/tracking.md 1), 1.3-2.6 mm at the entry (p95 1.81 mm on this
+  // draw). The reference's orientation filtered in `world` takes that to p95 1.21 mm; 1.5 leaves
+  // 25 % for the draw.
+  constexpr double kMaxEntryP95Mm = 1.5;
+  // ... and must beat the raw pose (--no-filter) on the same frames: mean 0.47 against 0.72 mm,
+  // p95 1.21 against 1.81 mm; at most 0.8 of raw's mean and no worse a p95 leave room for the
+  // draw while failing if the filter stopped averaging the tilt (docs/navigation.md 1).
+  constexpr double kMaxMeanOfRaw = 0.8;
   constexpr double kMinTrackedFraction = 0.9;                   // the wearer looks away at times
   const testing::EvdCase c = testing::MakeEvdCase(240, false);  // joined headframe tools
   const testing::EvdCase g = testing::MakeEvdCase(240, true);   // left tool + "instrument"
@@ -61,14 +65,19 @@ TEST(NavigationE2E, EvdUseCaseEntryAndDirectionErrorsWithTrueRegistration) {
   NavigatorOptions options;
   options.instrument_axis_in_tool = testing::InstrumentAxisInTool(g);
   Navigator guide(simulator.camera(), g.navigation_case, options);
+  NavigatorOptions raw_options;  // the ablation: each frame's raw reference pose
+  raw_options.tracking.filter_enabled = false;
+  Navigator raw(simulator.camera(), c.navigation_case, raw_options);
   const auto& plan = c.navigation_case.plan;
   const int patient = c.scenario.patient->object;
   Errors e;
+  std::vector<double> raw_entry_ahat_mm;
   int frames = 0, tracked = 0;
   while (!simulator.done()) {
     const sim::SimulatedFrame f = simulator.Next();
     const NavigationState s = navigator.Process(f.render.frame);
     const NavigationState with_tool = guide.Process(f.render.frame);
+    const NavigationState unfiltered = raw.Process(f.render.frame);
     ++frames;
     if (with_tool.guidance) {  // truth: tip 10 mm before entry 0 on the planned line, axis along
       const double length = (plan[0].target_lps_mm - plan[0].entry_lps_mm).norm();
@@ -77,9 +86,16 @@ TEST(NavigationE2E, EvdUseCaseEntryAndDirectionErrorsWithTrueRegistration) {
       e.guidance_depth_mm.push_back(
           std::abs(with_tool.guidance->remaining_depth_mm - (10.0 + length)));
     }
+    const Rigid3d ahat_from_image = f.ahat_from_objects[static_cast<std::size_t>(patient)];
+    if (unfiltered.status == NavigationStatus::kTracking) {
+      const Rigid3d est = *unfiltered.ahat_from_tool * c.tool_from_image;
+      for (const Trajectory& t : plan) {
+        raw_entry_ahat_mm.push_back(
+            (est * t.entry_lps_mm - ahat_from_image * t.entry_lps_mm).norm());
+      }
+    }
     if (s.status != NavigationStatus::kTracking) continue;
     ++tracked;
-    const Rigid3d ahat_from_image = f.ahat_from_objects[static_cast<std::size_t>(patient)];
     const Rigid3d world_from_image_true =
         f.world_from_rig_true * simulator.camera().rig_from_ahat() * ahat_from_image;
     const Rigid3d ahat_from_image_est = *s.ahat_from_tool * c.tool_from_image;
@@ -96,6 +112,14 @@ TEST(NavigationE2E, EvdUseCaseEntryAndDirectionErrorsWithTrueRegistration) {
   }
   e.Print("evd-usecase, true tool_from_image, 9 trajectories:");
   std::printf("  tracked %d of %d frames\n", tracked, frames);
+  std::printf(
+      "  raw reference pose (--no-filter): entry error (ahat) n=%zu mean %.3f median %.3f "
+      "p95 %.3f mm\n",
+      raw_entry_ahat_mm.size(), testing::Mean(raw_entry_ahat_mm),
+      testing::Percentile(raw_entry_ahat_mm, 0.5), testing::Percentile(raw_entry_ahat_mm, 0.95));
+  EXPECT_LE(testing::Mean(e.entry_ahat_mm), kMaxMeanOfRaw * testing::Mean(raw_entry_ahat_mm));
+  EXPECT_LE(testing::Percentile(e.entry_ahat_mm, 0.95),
+            testing::Percentile(raw_entry_ahat_mm, 0.95));
   EXPECT_GE(tracked, kMinTrackedFraction * frames);
   EXPECT_LE(testing::Mean(e.entry_ahat_mm), kMaxEntryMm);
   EXPECT_LE(testing::Percentile(e.entry_ahat_mm, 0.5), kMaxEntryMm);

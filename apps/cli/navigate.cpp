@@ -119,8 +119,13 @@ int RunNavigation(int argc, char** argv, bool verify_only) {
   bool no_pose_check = false;
   app.add_flag("--no-pose-check", no_pose_check,
                "use every reference pose (no check against its recent world poses)");
+  bool no_filter = false;
+  app.add_flag("--no-filter", no_filter,
+               "place the plan on each frame's raw reference pose (no pose filter; "
+               "docs/navigation.md 1)");
   TOFNAV_PARSE(app, argc, argv);
   navigator_options.check_pose_jumps = !no_pose_check;
+  navigator_options.tracking.filter_enabled = !no_filter;
   HeadsetDisplayOptions headset;
   if (!hololens.empty()) std::tie(headset.host, headset.port) = ParseRemoteSceneEndpoint(hololens);
   // The headset's one-time notices (no speech, another client): one line each, as they happen.

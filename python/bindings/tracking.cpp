@@ -103,6 +103,15 @@ void DefineTracker(py::module_& m) {
                              [](const TrackedTool& t) { return t.measurement.fre_rms_mm; })
       .def_property_readonly("visible_markers",
                              [](const TrackedTool& t) { return t.measurement.visible_markers; })
+      .def_property_readonly("used_markers",
+                             [](const TrackedTool& t) { return t.measurement.used_markers; })
+      .def_property_readonly(
+          "position_sd_mm", [](const TrackedTool& t) { return t.measurement.position_sd_mm; },
+          "per-axis sd of the measured position under the noise model (0: unknown)")
+      .def_property_readonly("rotation_sd_rad",
+                             [](const TrackedTool& t) { return t.measurement.rotation_sd_rad; })
+      .def_property_readonly("noise_chi2",
+                             [](const TrackedTool& t) { return t.measurement.noise_chi2; })
       .def_property_readonly("marker_detection",
                              [](const TrackedTool& t) { return t.measurement.marker_detection; })
       .def_readonly("gated", &TrackedTool::gated);

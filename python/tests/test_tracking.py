@@ -33,6 +33,10 @@ def test_tool_tracker_recovers_the_true_pose(simulated):
         (tracked,) = tracker.track(markers, frame.timestamp_s)
         assert tracked.status == "ok"
         assert tracked.visible_markers == 6
+        assert tracked.used_markers == 6
+        # the fit's own per-axis sds under its noise model: known, and within the pose tolerances
+        assert 0.0 < tracked.position_sd_mm < TRACK_TOL_MM
+        assert 0.0 < tracked.rotation_sd_rad < TRACK_TOL_RAD
         pose = tracked.ahat_from_tool
         true_pose = np.array(truth["frames"][i]["ahat_from_ref"])
         assert np.linalg.norm(pose[:3, 3] - true_pose[:3, 3]) < TRACK_TOL_MM

@@ -11,9 +11,9 @@
 namespace tofnav {
 namespace {
 
-/// The pose of a tracked tool in this frame: filtered when the filter runs, raw otherwise; none
-/// when unmeasured or gated as an outlier.
-std::optional<Rigid3d> PoseOf(const TrackedTool& tool, bool filter_enabled) {
+/// The reference's pose in this frame: filtered when the filter runs (NavigatorOptions::tracking),
+/// raw otherwise; none when unmeasured or gated as an outlier.
+std::optional<Rigid3d> ReferencePose(const TrackedTool& tool, bool filter_enabled) {
   if (!filter_enabled) return tool.measurement.ahat_from_tool;
   return tool.filtered_ahat_from_tool;
 }
@@ -121,7 +121,7 @@ NavigationState Navigator::Place(double timestamp_s, const TrackingFrame& tracke
   for (const TrackedTool& t : tracked.tools) {
     state.poses_refused_void += t.measurement.candidates_refused_void;
   }
-  state.ahat_from_tool = PoseOf(reference, options_.tracking.filter_enabled);
+  state.ahat_from_tool = ReferencePose(reference, options_.tracking.filter_enabled);
   bool fresh = false;
   if (state.ahat_from_tool && world_from_rig) {
     const Rigid3d world_from_tool =
@@ -170,7 +170,7 @@ NavigationState Navigator::Place(double timestamp_s, const TrackingFrame& tracke
 void Navigator::PlaceInstrument(NavigationState& state, const TrackedTool& instrument) const {
   state.instrument_status = instrument.status();
   state.instrument_marker_use = instrument.measurement.marker_use;
-  state.ahat_from_instrument = PoseOf(instrument, options_.tracking.filter_enabled);
+  state.ahat_from_instrument = instrument.measurement.ahat_from_tool;  // raw (NavigatorOptions)
   if (!state.ahat_from_instrument) return;
   if (state.ahat_from_tool) {
     state.tool_from_instrument = state.ahat_from_tool->Inverse() * *state.ahat_from_instrument;

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,10 +21,15 @@ namespace tofnav {
 
 struct NavigatorOptions {
   MarkerDetectionOptions markers;
-  /// The pose filter is off by default: it runs in `ahat`, where the headframe moves with every
-  /// head motion (0.1-0.3 m/s), and gates many good poses there (evd-usecase: 198 of 240 frames
-  /// tracked with it, 240 without, at a lower entry error; docs/navigation.md).
-  ToolTrackerOptions tracking{.filter_enabled = false};
+  /// The reference's pose is filtered (ToolTracker, about its markers' centroid): its orientation
+  /// in `world`, where the headframe stands still while the head-worn camera turns, so the
+  /// per-frame tilt noise of its plates, times the lever arm to the plan, averages out
+  /// (docs/navigation.md 1). The `ahat` filter's position gate is off (gate_floor_mm infinite):
+  /// there the headframe moves with every head motion and the gate refused good poses
+  /// (evd-usecase: 220 of 240 frames tracked with it, 231 without); the pose jump guard below
+  /// judges the world pose instead. The instrument's pose stays raw: it moves in `world`, where
+  /// the orientation filter would hold it.
+  ToolTrackerOptions tracking{.filter = {.gate_floor_mm = std::numeric_limits<double>::infinity()}};
   /// The reference tool unseen for longer than this [s]: its last pose is no longer current.
   double stale_after_s = 0.1;
   /// The headframe's world pose (world_from_rig * rig_from_ahat * ahat_from_tool) checked against

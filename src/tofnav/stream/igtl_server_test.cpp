@@ -128,6 +128,7 @@ TEST(IgtlServer, OneElevenClientReceivesTheTrueChainWithin1Micrometre) {
   tracked.tools.resize(1);
   tracked.tools[0].measurement.status = ToolStatus::kOk;
   tracked.tools[0].measurement.ahat_from_tool = ahat_from_tool;
+  tracked.tools[0].filtered_ahat_from_tool = ahat_from_tool;  // the Navigator places filtered
   IgtlServer server(Ephemeral());
   IgtlTestClient client(server.port());
   ASSERT_TRUE(WaitFor([&] { return server.stats().clients == 1; }));

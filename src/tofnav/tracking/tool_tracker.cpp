@@ -20,6 +20,19 @@ double RangeVarianceScale(double range_mm, double from_mm, double exponent) {
   return std::max(1.0, std::pow(range_mm / from_mm, 2.0 * exponent));
 }
 
+// The markers' centroid in `tool`: the filters run on the pose of a frame there
+// (ToolTracker::centroid_in_tool_).
+Eigen::Vector3d MarkerCentroid(const ToolGeometry& tool) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& m : tool.markers_in_tool) sum += m;
+  return sum / static_cast<double>(std::max<std::size_t>(1, tool.markers_in_tool.size()));
+}
+
+// ahat_from_tool shifted to (+) or back from (-) the frame at `centroid_in_tool` (same axes).
+Rigid3d Shifted(const Rigid3d& ahat_from_frame, const Eigen::Vector3d& offset) {
+  return Rigid3d(ahat_from_frame.rotation, ahat_from_frame * offset);
+}
+
 }  // namespace
 
 void ToolTrackerOptions::Check() const {
@@ -45,7 +58,10 @@ void ToolTrackerOptions::Check() const {
 ToolTracker::ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptions& options)
     : tools_(std::move(tools)), options_(options) {
   options.Check();
-  for (const ToolGeometry& tool : tools_) tool.Check();
+  for (const ToolGeometry& tool : tools_) {
+    tool.Check();
+    centroid_in_tool_.push_back(MarkerCentroid(tool));
+  }
   filters_.assign(tools_.size(), PoseFilter(options.filter));
   PoseFilterOptions world = options.filter;
   world.max_gap_s = std::max(world.max_gap_s, options.world_max_gap_s);
@@ -98,7 +114,9 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
   std::vector<std::optional<Rigid3d>> prior(tools_.size());
   for (std::size_t t = 0; t < tools_.size(); ++t) {
     if (options_.filter_enabled) {
-      prior[t] = filters_[t].Predict(timestamp_s);
+      if (const auto predicted = filters_[t].Predict(timestamp_s)) {
+        prior[t] = Shifted(*predicted, -centroid_in_tool_[t]);
+      }
     } else if (last_pose_[t] && timestamp_s - last_seen_s_[t] <= options_.filter.max_gap_s) {
       prior[t] = last_pose_[t];
     }
@@ -125,9 +143,14 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
     last_pose_[t] = raw;
     last_seen_s_[t] = timestamp_s;
     if (options_.filter_enabled) {
+      // The filters hold the pose of the markers' centroid frame: its position is what the
+      // markers fix best, so a tool whose origin lies far from its markers (a headframe's first
+      // plate, a pointer's tip) does not get the orientation's noise times that lever in its
+      // filtered position, and the world filter's orientation turns the pose about the markers.
+      const Rigid3d measured = Shifted(*raw, centroid_in_tool_[t]);
       double accel_sigma = 0.0;  // the option's
-      if (camera_step) {         // a world-fixed point at raw's position was at step^-1 * p then
-        const Eigen::Vector3d& p = raw->translation;
+      if (camera_step) {         // a world-fixed point at the markers was at step^-1 * p then
+        const Eigen::Vector3d& p = measured.translation;
         const double speed_mm_per_s = (p - camera_step->Inverse() * p).norm() / step_s;
         accel_sigma = std::max(options_.filter.position_accel_sigma_mm_per_s2,
                                options_.camera_motion_bandwidth_per_s * speed_mm_per_s);
@@ -137,7 +160,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       const double scale = options_.inflate_noise_by_fit && dof > 0
                                ? std::max(1.0, m.noise_chi2 / static_cast<double>(dof))
                                : 1.0;
-      const double range_mm = raw->translation.norm();
+      const double range_mm = measured.translation.norm();
       const double range_scale = RangeVarianceScale(range_mm, options_.noise_growth_range_mm,
                                                     options_.noise_growth_exponent);
       // In full while the camera stands still; fading as its motion raises the process noise:
@@ -150,7 +173,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       // With a world filter the orientation is judged there, where the tool stands still; in
       // `ahat` it turns with the head, faster than the filter's rotation noise follows at 6 Hz.
       const PoseFilterUpdate update =
-          filters_[t].Update(*raw, timestamp_s,
+          filters_[t].Update(measured, timestamp_s,
                              {.position_accel_sigma_mm_per_s2 = accel_sigma,
                               .measurement_variance_scale = scale,
                               .position_variance_scale = position_scale,
@@ -158,19 +181,19 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
                               .gate_on_rotation = !in_world});
       tracked.gated = update.gated;
       tracked.filter_reset = update.reset;
-      if (!update.gated) tracked.filtered_ahat_from_tool = update.filtered;
+      Rigid3d filtered = update.filtered;  // of the centroid frame
       if (!in_world) {
         world_filters_[t].Reset();
       } else {
         const PoseFilterUpdate world = world_filters_[t].Update(
-            *world_from_ahat * *raw, timestamp_s,
+            *world_from_ahat * measured, timestamp_s,
             {.measurement_variance_scale = scale, .rotation_variance_scale = rotation_scale});
         // Gated there, the world filter's output is its prediction: the held orientation of a
         // tool that stands still, better than the raw one the `ahat` filter may restart from.
-        if (!update.gated) {
-          tracked.filtered_ahat_from_tool->rotation =
-              (world_from_ahat->Inverse() * world.filtered).rotation;
-        }
+        filtered.rotation = (world_from_ahat->Inverse() * world.filtered).rotation;
+      }
+      if (!update.gated) {
+        tracked.filtered_ahat_from_tool = Shifted(filtered, -centroid_in_tool_[t]);
       }
     }
     frame.tools.push_back(std::move(tracked));

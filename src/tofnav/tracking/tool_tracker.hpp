@@ -107,6 +107,7 @@ class ToolTracker {
 
  private:
   std::vector<ToolGeometry> tools_;
+  std::vector<Eigen::Vector3d> centroid_in_tool_;  // per tool: its markers' centroid
   ToolTrackerOptions options_;
   std::vector<PoseFilter> filters_;                // ahat_from_tool
   std::vector<PoseFilter> world_filters_;          // world_from_tool, for the orientation

@@ -33,7 +33,8 @@ Rigid3d TurningCamera(double t_s) {
 // in which `b` has a filtered pose (a lagging filter may gate a frame of the turning camera).
 int RunTurningCamera(
     ToolTracker& a, ToolTracker& b, std::uint64_t seed,
-    const std::function<void(const TrackedTool&, const TrackedTool&, const Rigid3d&)>& add) {
+    const std::function<void(const TrackedTool&, const TrackedTool&, const Rigid3d&)>& add,
+    const ToolGeometry& tool = ReferenceTool()) {
   constexpr double kMarkerNoiseMm = 0.3;  // per axis, about the raw tilt noise of a small tool
   const Rigid3d world_from_tool = testing::FacingToolPose({0.0, 0.0, 450.0}, 0.3, 0.2);
   std::mt19937_64 rng(seed);
@@ -42,8 +43,7 @@ int RunTurningCamera(
     const double t = i / 45.0;
     const Rigid3d world_from_ahat = TurningCamera(t);
     const Rigid3d truth = world_from_ahat.Inverse() * world_from_tool;
-    const std::vector<DetectedMarker> d =
-        testing::ToolDetections(ReferenceTool(), truth, kMarkerNoiseMm, rng);
+    const std::vector<DetectedMarker> d = testing::ToolDetections(tool, truth, kMarkerNoiseMm, rng);
     const TrackedTool ta = a.Track(d, t, world_from_ahat).tools[0];
     const TrackedTool tb = b.Track(d, t, world_from_ahat).tools[0];
     EXPECT_TRUE(ta.measurement.ahat_from_tool.has_value()) << i;
@@ -111,6 +111,27 @@ TEST(ToolTracker, FiltersTheOrientationInTheWorldWhenTheCameraPoseIsKnown) {
   EXPECT_GE(n, 110);
   EXPECT_LT(std::sqrt(world2 / n), kMaxWorldToRawRatio * std::sqrt(raw2 / n));
   EXPECT_LT(world2, ahat2);
+}
+
+// A tool whose origin lies 150 mm from its markers (a headframe's first plate, a pointer's tip):
+// the filters hold the pose of the markers' centroid, so the world-filtered orientation turns the
+// pose about the markers and the origin gets the filtered tilt times the lever, not the raw one.
+// Filtered about the origin instead, the origin kept the raw tilt's lever error (ratio ~1).
+TEST(ToolTracker, FiltersAboutTheMarkersSoAFarOriginGetsTheFilteredTilt) {
+  constexpr double kMaxFilteredToRawRatio = 0.6;  // origin position RMS, filtered vs raw
+  ToolGeometry far_origin = ReferenceTool();
+  for (Eigen::Vector3d& m : far_origin.markers_in_tool) m += Eigen::Vector3d(150.0, 0.0, 0.0);
+  ToolTracker a({far_origin}), b({far_origin});
+  double raw2 = 0.0, filtered2 = 0.0;
+  const int n = RunTurningCamera(
+      a, b, 5,
+      [&](const TrackedTool& t, const TrackedTool&, const Rigid3d& truth) {
+        raw2 += (t.measurement.ahat_from_tool->translation - truth.translation).squaredNorm();
+        filtered2 += (t.filtered_ahat_from_tool->translation - truth.translation).squaredNorm();
+      },
+      far_origin);
+  EXPECT_GE(n, 110);
+  EXPECT_LT(std::sqrt(filtered2 / n), kMaxFilteredToRawRatio * std::sqrt(raw2 / n));
 }
 
 // The suite's sparse sessions: a frame every 0.156 s, every third slot dropped (0.31 s gaps,
