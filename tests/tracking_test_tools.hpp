@@ -81,6 +81,32 @@ inline std::vector<DetectedMarker> ToolDetections(const ToolGeometry& tool,
   return out;
 }
 
+/// Detections of `tool` at `ahat_from_tool` whose centres err as ToF markers do: `along_mm` along
+/// the view ray (the range), `across_mm` per axis across it (the sub-pixel ray).
+inline std::vector<DetectedMarker> RayNoiseDetections(const ToolGeometry& tool,
+                                                      const Rigid3d& ahat_from_tool,
+                                                      double along_mm, double across_mm,
+                                                      std::mt19937_64& rng) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  std::vector<DetectedMarker> out;
+  for (const Eigen::Vector3d& m : tool.markers_in_tool) {
+    const Eigen::Vector3d c = ahat_from_tool * m;
+    const Eigen::Vector3d u = c.normalized();
+    Eigen::Vector3d e(across_mm * normal(rng), across_mm * normal(rng), across_mm * normal(rng));
+    e += (along_mm * normal(rng) - e.dot(u)) * u;
+    out.push_back(DetectionAt(c + e, tool.SurfaceToCentreMm()));
+  }
+  return out;
+}
+
+/// world_from_ahat of a head-worn camera turning at up to ~30 deg/s and moving sideways.
+inline Rigid3d TurningCamera(double t_s) {
+  return Rigid3d(
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.25 * std::sin(2.0 * t_s), Eigen::Vector3d::UnitY()) *
+                         Eigen::AngleAxisd(0.1 * std::sin(3.1 * t_s), Eigen::Vector3d::UnitX())),
+      Eigen::Vector3d(30.0 * std::sin(1.3 * t_s), 0.0, 0.0));
+}
+
 /// `count` spurious detections spread over a box in front of the camera.
 inline void AddSpurious(std::vector<DetectedMarker>& detections, int count, std::mt19937_64& rng,
                         const Eigen::Vector3d& centre = {0.0, 0.0, 450.0}, double half_mm = 150.0) {

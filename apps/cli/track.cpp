@@ -93,7 +93,8 @@ int RunTrack(int argc, char** argv) {
   MarkerSourceArgs source_args;
   std::vector<std::filesystem::path> tool_paths;
   std::filesystem::path marker_error_path, out_path;
-  bool no_filter = false, ahat_filter = false, quiet = false, json = false;
+  bool no_filter = false, ahat_filter = false, position_in_ahat = false, quiet = false,
+       json = false;
   ToolTrackerOptions options;
   Method method = Method::kTofnav;
   AddMethodOption(app, method);
@@ -106,6 +107,9 @@ int RunTrack(int argc, char** argv) {
   app.add_flag("--no-filter", no_filter, "no pose filter (filtered columns stay empty)");
   app.add_flag("--ahat-filter", ahat_filter,
                "filter the orientation in ahat even when frames carry a rig pose");
+  app.add_flag("--position-in-ahat", position_in_ahat,
+               "filter the position in ahat alone, not fused with the one held in the world "
+               "(docs/tracking.md 1)");
   app.add_option("--max-fre", options.pose.max_fre_mm, "FRE acceptance [mm]");
   bool keep_void_poses = false;
   app.add_flag("--keep-void-poses", keep_void_poses,
@@ -133,6 +137,7 @@ int RunTrack(int argc, char** argv) {
   if (!marker_error_path.empty()) model = ReadMarkerRangeJson(marker_error_path).model;
   options.filter_enabled = !no_filter;
   options.rotation_in_world = !ahat_filter;
+  options.position_in_world = !position_in_ahat;
   if (method == Method::kPaper) UsePaperTracking(options);
   options.pose.refuse_void_poses = !keep_void_poses;
   if (drop_damaged) options.pose.robust.drop_damaged = true;

@@ -127,7 +127,7 @@ PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
     rotation_cov_.vv += options_.boost_rate_sigma_rad_per_s * options_.boost_rate_sigma_rad_per_s;
   }
   last_s_ = timestamp_s;
-  return {Rigid3d(rotation_, position_mm_), false, false};
+  return {Rigid3d(rotation_, position_mm_), false, false, kp0};
 }
 
 }  // namespace tofnav

@@ -40,6 +40,9 @@ struct PoseFilterUpdate {
   Rigid3d filtered;    // the filtered pose at the measurement time (the measurement on reset)
   bool gated = false;  // measurement rejected: `filtered` is the prediction, state unchanged
   bool reset = false;  // (re-)initialised from this measurement
+  /// The filtered position's variance relative to the measurement's: the position's Kalman gain
+  /// (1 on reset, when the output is the measurement; small when the filter averages many).
+  double position_variance_ratio = 1.0;
 };
 
 /// What the caller knows about one measurement beyond the options.

@@ -38,6 +38,7 @@ Rigid3d Shifted(const Rigid3d& ahat_from_frame, const Eigen::Vector3d& offset) {
 void ToolTrackerOptions::Check() const {
   pose.Check();
   filter.Check();
+  world_position.Check();
   Require(max_missed_frames >= 1, "ToolTrackerOptions::max_missed_frames must be >= 1");
   Require(std::isfinite(world_max_gap_s) && world_max_gap_s > 0.0,
           "ToolTrackerOptions::world_max_gap_s must be > 0");
@@ -56,7 +57,7 @@ void ToolTrackerOptions::Check() const {
 }
 
 ToolTracker::ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptions& options)
-    : tools_(std::move(tools)), options_(options) {
+    : tools_(std::move(tools)), options_(options), rig_jitter_(options.world_position) {
   options.Check();
   for (const ToolGeometry& tool : tools_) {
     tool.Check();
@@ -75,12 +76,15 @@ ToolTracker::ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptio
   world.position_sigma_mm = kWorldPositionSigmaMm;
   world.gate_floor_mm = std::numeric_limits<double>::infinity();
   world_filters_.assign(tools_.size(), PoseFilter(world));
+  world_positions_.assign(tools_.size(), WorldPositionFilter(options.world_position));
   Reset();
 }
 
 void ToolTracker::Reset() {
   for (PoseFilter& f : filters_) f.Reset();
   for (PoseFilter& f : world_filters_) f.Reset();
+  for (WorldPositionFilter& f : world_positions_) f.Reset();
+  rig_jitter_.Reset();
   last_pose_.assign(tools_.size(), std::nullopt);
   last_seen_s_.assign(tools_.size(), 0.0);
   missed_.assign(tools_.size(), 0);
@@ -184,6 +188,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       Rigid3d filtered = update.filtered;  // of the centroid frame
       if (!in_world) {
         world_filters_[t].Reset();
+        world_positions_[t].Reset();
       } else {
         const PoseFilterUpdate world = world_filters_[t].Update(
             *world_from_ahat * measured, timestamp_s,
@@ -191,6 +196,17 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
         // Gated there, the world filter's output is its prediction: the held orientation of a
         // tool that stands still, better than the raw one the `ahat` filter may restart from.
         filtered.rotation = (world_from_ahat->Inverse() * world.filtered).rotation;
+        if (options_.position_in_world) {
+          // Fused with the `ahat` filter's position: while the camera stands still it averages
+          // many frames (its variance ratio small), while it moves it is the raw one's.
+          const WorldPositionUpdate position = world_positions_[t].Update(
+              {.measured_in_ahat = measured.translation,
+               .variance_scale = scale,
+               .estimate_in_ahat = filtered.translation,
+               .estimate_variance_ratio = update.gated ? 1.0 : update.position_variance_ratio},
+              *world_from_ahat, timestamp_s, rig_jitter_);
+          if (position.fused_in_ahat) filtered.translation = *position.fused_in_ahat;
+        }
       }
       if (!update.gated) {
         tracked.filtered_ahat_from_tool = Shifted(filtered, -centroid_in_tool_[t]);

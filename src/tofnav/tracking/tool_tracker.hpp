@@ -11,6 +11,7 @@
 #include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/tracking/pose_filter.hpp"
 #include "tofnav/tracking/tool_pose.hpp"
+#include "tofnav/tracking/world_position_filter.hpp"
 
 namespace tofnav {
 
@@ -21,9 +22,15 @@ struct ToolTrackerOptions {
   /// With the camera's world pose (Track's world_from_ahat), the orientation is filtered in the
   /// world frame, where a tool fixed to the patient stands still while the head-worn camera turns
   /// at 10-30 deg/s: the constant-velocity filter then averages the per-frame tilt noise of a
-  /// small tool instead of lagging the head. The position stays filtered in `ahat` (the rig
-  /// pose's jitter would add to it). The filter restarts when the world pose comes or goes.
+  /// small tool instead of lagging the head. The filter restarts when the world pose comes or
+  /// goes.
   bool rotation_in_world = true;
+  /// ... and the position: each frame's measured markers' centroid is fused with the one held in
+  /// the world, predicted through the frame's rig pose (WorldPositionFilter; the rig pose's jitter
+  /// measured from the innovations). Until it holds a position, and when it gates one, the
+  /// `ahat` filter's position is used. Off: the `ahat` filter's alone.
+  bool position_in_world = true;
+  WorldPositionOptions world_position;
   /// The world-frame orientation filter bridges gaps up to this long (dropped frames, a hand
   /// over the tool): there the tool stands still, so the held orientation stays valid where the
   /// `ahat` filter (filter.max_gap_s) must restart from one raw pose.
@@ -109,9 +116,11 @@ class ToolTracker {
   std::vector<ToolGeometry> tools_;
   std::vector<Eigen::Vector3d> centroid_in_tool_;  // per tool: its markers' centroid
   ToolTrackerOptions options_;
-  std::vector<PoseFilter> filters_;                // ahat_from_tool
-  std::vector<PoseFilter> world_filters_;          // world_from_tool, for the orientation
-  std::vector<std::optional<Rigid3d>> last_pose_;  // last raw pose (prior when unfiltered)
+  std::vector<PoseFilter> filters_;                   // ahat_from_tool
+  std::vector<PoseFilter> world_filters_;             // world_from_tool, for the orientation
+  std::vector<WorldPositionFilter> world_positions_;  // the markers' centroid in `world`
+  RigJitterEstimate rig_jitter_;                      // one rig pose per frame: shared
+  std::vector<std::optional<Rigid3d>> last_pose_;     // last raw pose (prior when unfiltered)
   std::vector<double> last_seen_s_;
   std::vector<int> missed_;
   std::deque<std::pair<double, Rigid3d>> camera_poses_;  // (time, world_from_ahat), newest last
