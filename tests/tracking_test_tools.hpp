@@ -81,20 +81,26 @@ inline std::vector<DetectedMarker> ToolDetections(const ToolGeometry& tool,
   return out;
 }
 
+/// A ToF point's error at `point_in_ahat`: `along_mm` along its view ray, `across_mm` per axis
+/// across it.
+inline Eigen::Vector3d RayNoise(const Eigen::Vector3d& point_in_ahat, double along_mm,
+                                double across_mm, std::mt19937_64& rng) {
+  std::normal_distribution<double> normal(0.0, 1.0);
+  const Eigen::Vector3d u = point_in_ahat.normalized();
+  Eigen::Vector3d e(across_mm * normal(rng), across_mm * normal(rng), across_mm * normal(rng));
+  return e + (along_mm * normal(rng) - e.dot(u)) * u;
+}
+
 /// Detections of `tool` at `ahat_from_tool` whose centres err as ToF markers do: `along_mm` along
 /// the view ray (the range), `across_mm` per axis across it (the sub-pixel ray).
 inline std::vector<DetectedMarker> RayNoiseDetections(const ToolGeometry& tool,
                                                       const Rigid3d& ahat_from_tool,
                                                       double along_mm, double across_mm,
                                                       std::mt19937_64& rng) {
-  std::normal_distribution<double> normal(0.0, 1.0);
   std::vector<DetectedMarker> out;
   for (const Eigen::Vector3d& m : tool.markers_in_tool) {
     const Eigen::Vector3d c = ahat_from_tool * m;
-    const Eigen::Vector3d u = c.normalized();
-    Eigen::Vector3d e(across_mm * normal(rng), across_mm * normal(rng), across_mm * normal(rng));
-    e += (along_mm * normal(rng) - e.dot(u)) * u;
-    out.push_back(DetectionAt(c + e, tool.SurfaceToCentreMm()));
+    out.push_back(DetectionAt(c + RayNoise(c, along_mm, across_mm, rng), tool.SurfaceToCentreMm()));
   }
   return out;
 }

@@ -12,6 +12,7 @@
 #include <random>
 
 #include "matchers.hpp"
+#include "tofnav/sim/timing.hpp"
 #include "tracking_test_tools.hpp"
 
 namespace tofnav {
@@ -262,18 +263,12 @@ TEST(ToolTracker, FusesAWorldFixedToolsPositionWithTheRigPose) {
   ToolTracker ahat_only({ReferenceTool()}, ahat_options);
   const Rigid3d world_from_tool = testing::FacingToolPose({0.0, 0.0, 700.0}, 0.3, 0.2);
   std::mt19937_64 rng(11);
-  std::normal_distribution<double> normal(0.0, 1.0);
   double fused2 = 0.0, ahat2 = 0.0;
   int n = 0;
   for (int i = 0; i < 300; ++i) {
     const double t = i / 45.0;
     const Rigid3d true_world_from_ahat = TurningCamera(t);
-    const Eigen::Vector3d jitter_rad(3e-4 * normal(rng), 3e-4 * normal(rng), 3e-4 * normal(rng));
-    const Eigen::Vector3d jitter_mm(0.3 * normal(rng), 0.3 * normal(rng), 0.3 * normal(rng));
-    const Rigid3d reported =
-        true_world_from_ahat *
-        Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(jitter_rad.norm(), jitter_rad.normalized())),
-                jitter_mm);
+    const Rigid3d reported = sim::JitterPose(true_world_from_ahat, {}, rng);  // 0.3 mm, 3e-4 rad
     const Rigid3d truth = true_world_from_ahat.Inverse() * world_from_tool;
     const std::vector<DetectedMarker> d =
         testing::RayNoiseDetections(ReferenceTool(), truth, 0.73, 0.22, rng);

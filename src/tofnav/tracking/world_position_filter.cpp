@@ -143,10 +143,10 @@ WorldPositionUpdate WorldPositionFilter::Update(const WorldPositionInput& input,
       predicted +
       (held + jitter_cov) *
           (estimate + held + jitter_cov).ldlt().solve(input.estimate_in_ahat - predicted);
-  // Update the world state with the measurement mapped by the rig pose (its jitter included).
-  const Eigen::Matrix3d s_world = rotation * innovation_cov * rotation.transpose();
+  // Update the world state with the measurement mapped by the rig pose (its jitter included):
+  // the innovation covariance in `world` is R S R^T, so its inverse is R S^-1 R^T.
   const Eigen::Matrix<double, 6, 3> gain =
-      cov.leftCols<3>() * s_world.ldlt().solve(Eigen::Matrix3d::Identity());
+      cov.leftCols<3>() * rotation * solver.solve(rotation.transpose());
   state_ = state + gain * (measured_in_world - state.head<3>());
   cov_ = cov - gain * cov.topRows<3>();
   cov_ = 0.5 * (cov_ + cov_.transpose()).eval();

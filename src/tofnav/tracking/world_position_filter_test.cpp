@@ -9,6 +9,7 @@
 #include <random>
 #include <stdexcept>
 
+#include "tofnav/sim/timing.hpp"
 #include "tracking_test_tools.hpp"
 
 namespace tofnav {
@@ -31,7 +32,6 @@ struct Outcome {
 // 150 frames at the suite's 6.4 Hz (0.156 s) of a point 750 mm in front of the camera.
 Outcome Simulate(const Scene& scene, std::uint64_t seed) {
   std::mt19937_64 rng(seed);
-  std::normal_distribution<double> normal(0.0, 1.0);
   WorldPositionFilter filter;
   RigJitterEstimate jitter;
   const Eigen::Vector3d start_in_world(20.0, -10.0, 750.0);
@@ -43,18 +43,11 @@ Outcome Simulate(const Scene& scene, std::uint64_t seed) {
     if (t >= scene.jump_at_s) in_world.y() += 5.0;
     const Rigid3d true_world_from_ahat = testing::TurningCamera(t);
     const Eigen::Vector3d truth = true_world_from_ahat.Inverse() * in_world;
-    const Eigen::Vector3d u = truth.normalized();
-    Eigen::Vector3d noise(scene.across_mm * normal(rng), scene.across_mm * normal(rng),
-                          scene.across_mm * normal(rng));
-    noise += (scene.along_mm * normal(rng) - noise.dot(u)) * u;
-    const Eigen::Vector3d measured = truth + noise;
-    const Eigen::Vector3d w(scene.jitter_rad * normal(rng), scene.jitter_rad * normal(rng),
-                            scene.jitter_rad * normal(rng));
-    const Rigid3d reported =
-        true_world_from_ahat *
-        Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(w.norm(), w.normalized())),
-                Eigen::Vector3d(scene.jitter_mm * normal(rng), scene.jitter_mm * normal(rng),
-                                scene.jitter_mm * normal(rng)));
+    const Eigen::Vector3d measured =
+        truth + testing::RayNoise(truth, scene.along_mm, scene.across_mm, rng);
+    const Rigid3d reported = sim::JitterPose(
+        true_world_from_ahat,
+        {.translation_sigma_mm = scene.jitter_mm, .rotation_sigma_rad = scene.jitter_rad}, rng);
     const WorldPositionUpdate update = filter.Update(
         {.measured_in_ahat = measured, .estimate_in_ahat = measured}, reported, t, jitter);
     run.gated += update.gated;
