@@ -8,6 +8,7 @@
 
 #include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
+#include "tofnav/core/rotation_vector.hpp"
 #include "tofnav/markers/marker_centre.hpp"
 
 namespace tofnav {
@@ -17,6 +18,7 @@ struct PosedFrame {
   std::size_t frame = 0;
   std::vector<int> detection;  // per structure marker, -1 unseen
   Rigid3d ahat_from_structure;
+  Points3d markers, rays;  // the seen markers in `structure` and their reference rays
 };
 
 std::optional<PosedFrame> PoseFrame(const StageFrame& frame, std::size_t index,
@@ -39,7 +41,8 @@ std::optional<PosedFrame> PoseFrame(const StageFrame& frame, std::size_t index,
   const RayPoseResult pnp =
       EstimatePoseFromRays(markers, rays, *matched.ahat_from_tool, options.ray_pose);
   if (!pnp.converged) return std::nullopt;
-  return PosedFrame{index, matched.marker_detection, pnp.ahat_from_tool};
+  return PosedFrame{index, matched.marker_detection, pnp.ahat_from_tool, std::move(markers),
+                    std::move(rays)};
 }
 
 // Chordal mean of unit quaternions: the dominant eigenvector of sum q q^T.
@@ -51,6 +54,60 @@ Eigen::Quaterniond MeanRotation(const std::vector<PosedFrame>& posed) {
   }
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix4d> eig(sum);
   return Eigen::Quaterniond(Eigen::Vector4d(eig.eigenvectors().col(3))).normalized();
+}
+
+// The structure's one rotation and constant-speed trajectory over a run: x(t) = R m + o + v t.
+struct RunLine {
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // at the run's mean time
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+};
+
+// Fits R, o and (when fit_velocity) v to every marker ray of the run at once: Gauss-Newton on
+// the sum of |(I - r r^T) x|^2 / |x|^2, each ray's squared angle to its marker (docs/tracking.md
+// 4, "the stage reference"). Posed frame by frame, PnP's depth is biased where its tilt is
+// uncertain: it fits the structure's foreshortened size, so a tilt error e shortens the range by
+// about d e^2 / 2, and near a frontal view e is degrees (0.2 mm too near at 0-10 deg, 0.04 mm too
+// far at 30 deg over the suite's stages). The run's rotation does not change, and one rotation
+// fitted to all its frames errs by a tenth of a degree. times_s are relative to the mean time.
+void RefineRunLine(const std::vector<PosedFrame>& posed, std::span<const double> times_s,
+                   bool fit_velocity, RunLine& line) {
+  constexpr int kMaxIterations = 30;
+  constexpr double kSettledMm = 1e-7;  // step at the structure's size
+  using Matrix9d = Eigen::Matrix<double, 9, 9>;
+  using Vector9d = Eigen::Matrix<double, 9, 1>;
+  const Eigen::Index unknowns = fit_velocity ? 9 : 6;
+  double lever_mm = 1.0;
+  for (const PosedFrame& p : posed) {
+    for (const Eigen::Vector3d& m : p.markers) lever_mm = std::max(lever_mm, m.norm());
+  }
+  for (int iteration = 0; iteration < kMaxIterations; ++iteration) {
+    Matrix9d h = Matrix9d::Zero();
+    Vector9d g = Vector9d::Zero();
+    for (std::size_t i = 0; i < posed.size(); ++i) {
+      for (std::size_t k = 0; k < posed[i].markers.size(); ++k) {
+        const Eigen::Vector3d rm = line.rotation * posed[i].markers[k];
+        const Eigen::Vector3d x = rm + line.origin + line.velocity * times_s[i];
+        const Eigen::Vector3d& r = posed[i].rays[k];
+        const Eigen::Matrix3d w =
+            (Eigen::Matrix3d::Identity() - r * r.transpose()) / x.squaredNorm();
+        Eigen::Matrix<double, 3, 9> j;
+        j.leftCols<3>() << 0, rm.z(), -rm.y(), -rm.z(), 0, rm.x(), rm.y(), -rm.x(), 0;
+        j.middleCols<3>(3).setIdentity();
+        j.rightCols<3>() = times_s[i] * Eigen::Matrix3d::Identity();
+        const Eigen::Matrix<double, 9, 3> jw = j.transpose() * w;
+        h += jw * j;
+        g += jw * x;
+      }
+    }
+    const Eigen::VectorXd step =
+        -h.topLeftCorner(unknowns, unknowns).ldlt().solve(g.head(unknowns));
+    if (!step.allFinite()) return;
+    line.rotation = FromRotationVector(step.head<3>()).toRotationMatrix() * line.rotation;
+    line.origin += step.segment<3>(3);
+    if (fit_velocity) line.velocity += step.tail<3>();
+    if (step.head<3>().norm() * lever_mm + step.tail(unknowns - 3).norm() < kSettledMm) return;
+  }
 }
 
 }  // namespace
@@ -99,21 +156,24 @@ StageRangeErrorResult MeasureMarkerRangeErrors(std::span<const StageFrame> frame
     const Eigen::MatrixXd coefficients = (sqrt_weight.asDiagonal() * design)
                                              .colPivHouseholderQr()
                                              .solve(sqrt_weight.asDiagonal() * positions);
-    result.line_origin_mm = coefficients.row(0).transpose();
-    result.line_velocity_mm_per_s = coefficients.row(1).transpose();
-    result.fitted_speed_mm_per_s = result.line_velocity_mm_per_s.norm();
+    // The weighted line through the per-frame positions starts the fit over all rays at once.
+    const double mean_time_s = design.col(1).mean();
+    std::vector<double> times_s(posed.size());
+    for (Eigen::Index i = 0; i < n; ++i)
+      times_s[static_cast<std::size_t>(i)] = design(i, 1) - mean_time_s;
+    RunLine line;
+    line.rotation = MeanRotation(posed).toRotationMatrix();
+    line.velocity = coefficients.row(1).transpose();
+    line.origin = coefficients.row(0).transpose() + line.velocity * mean_time_s;
+    RefineRunLine(posed, times_s, true, line);
+    result.fitted_speed_mm_per_s = line.velocity.norm();
     if (options.known_speed_mm_per_s && result.fitted_speed_mm_per_s > 0.0) {
-      result.line_velocity_mm_per_s *= *options.known_speed_mm_per_s / result.fitted_speed_mm_per_s;
-      // The origin that minimises the same weighted squares with the velocity fixed.
-      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-      double total = 0.0;
-      for (Eigen::Index i = 0; i < n; ++i) {
-        const double w = sqrt_weight(i) * sqrt_weight(i);
-        sum += w * (positions.row(i).transpose() - result.line_velocity_mm_per_s * design(i, 1));
-        total += w;
-      }
-      result.line_origin_mm = sum / total;
+      line.velocity *= *options.known_speed_mm_per_s / result.fitted_speed_mm_per_s;
+      RefineRunLine(posed, times_s, false, line);  // the origin and rotation at that speed
     }
+    result.ahat_from_structure_rotation = Eigen::Quaterniond(line.rotation).normalized();
+    result.line_velocity_mm_per_s = line.velocity;
+    result.line_origin_mm = line.origin - line.velocity * mean_time_s;
     for (Eigen::Index i = 0; i < n; ++i) {
       on_line[static_cast<std::size_t>(i)] =
           result.line_origin_mm + result.line_velocity_mm_per_s * design(i, 1);
@@ -132,7 +192,7 @@ StageRangeErrorResult MeasureMarkerRangeErrors(std::span<const StageFrame> frame
           mean + direction * direction.dot(centred.row(i).transpose());
     }
   }
-  result.ahat_from_structure_rotation = MeanRotation(posed);
+  if (!options.constant_speed) result.ahat_from_structure_rotation = MeanRotation(posed);
   double sum2 = 0.0;
   for (std::size_t i = 0; i < posed.size(); ++i) {
     sum2 += (posed[i].ahat_from_structure.translation - on_line[i]).squaredNorm();
