@@ -92,8 +92,7 @@ void RefineRunLine(const std::vector<PosedFrame>& posed, std::span<const double>
         const Eigen::Matrix3d w =
             (Eigen::Matrix3d::Identity() - r * r.transpose()) / x.squaredNorm();
         Eigen::Matrix<double, 3, 9> j;
-        j.leftCols<3>() << 0, rm.z(), -rm.y(), -rm.z(), 0, rm.x(), rm.y(), -rm.x(), 0;
-        j.middleCols<3>(3).setIdentity();
+        j.leftCols<6>() = PoseJacobian(rm);
         j.rightCols<3>() = times_s[i] * Eigen::Matrix3d::Identity();
         const Eigen::Matrix<double, 9, 3> jw = j.transpose() * w;
         h += jw * j;
@@ -187,12 +186,12 @@ StageRangeErrorResult MeasureMarkerRangeErrors(std::span<const StageFrame> frame
     const Eigen::Vector3d direction = principal.axes.col(0);
     result.line_origin_mm = mean;
     result.line_velocity_mm_per_s = direction;
+    result.ahat_from_structure_rotation = MeanRotation(posed);
     for (Eigen::Index i = 0; i < n; ++i) {
       on_line[static_cast<std::size_t>(i)] =
           mean + direction * direction.dot(centred.row(i).transpose());
     }
   }
-  if (!options.constant_speed) result.ahat_from_structure_rotation = MeanRotation(posed);
   double sum2 = 0.0;
   for (std::size_t i = 0; i < posed.size(); ++i) {
     sum2 += (posed[i].ahat_from_structure.translation - on_line[i]).squaredNorm();

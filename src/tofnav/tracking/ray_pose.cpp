@@ -22,9 +22,7 @@ void AddNormalEquations(std::span<const Eigen::Vector3d> markers,
                         const Eigen::Vector3d& translation, Matrix6d& h, Vector6d& g) {
   for (std::size_t i = 0; i < markers.size(); ++i) {
     const Eigen::Vector3d rm = rotation * markers[i];
-    Eigen::Matrix<double, 3, 6> j;
-    j.leftCols<3>() << 0, rm.z(), -rm.y(), -rm.z(), 0, rm.x(), rm.y(), -rm.x(), 0;
-    j.rightCols<3>().setIdentity();
+    const Eigen::Matrix<double, 3, 6> j = PoseJacobian(rm);
     const Eigen::Matrix<double, 6, 3> jw = j.transpose() * weights[i];
     h += jw * j;
     g += jw * (rm + translation - targets[i]);
@@ -93,6 +91,14 @@ void ObservationWeights(std::span<const RayRangeObservation> observations,
 }
 
 }  // namespace
+
+Eigen::Matrix<double, 3, 6> PoseJacobian(const Eigen::Vector3d& rotated_point) {
+  const Eigen::Vector3d& p = rotated_point;
+  Eigen::Matrix<double, 3, 6> j;
+  j.leftCols<3>() << 0, p.z(), -p.y(), -p.z(), 0, p.x(), p.y(), -p.x(), 0;
+  j.rightCols<3>().setIdentity();
+  return j;
+}
 
 void RayPoseOptions::Check() const {
   Require(max_iterations >= 1, "RayPoseOptions::max_iterations must be >= 1");

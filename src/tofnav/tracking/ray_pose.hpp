@@ -22,6 +22,10 @@ struct RayPoseResult {
   bool converged = false;
 };
 
+/// d(R m + t) / d(w, t) for the update R <- Exp(w) R, t <- t + dt: [-[R m]x | I] (3 x 6), from
+/// the rotated point R m.
+Eigen::Matrix<double, 3, 6> PoseJacobian(const Eigen::Vector3d& rotated_point);
+
 /// Minimises sum |(I - r_i r_i^T)(R m_i + t)|^2, the object-space collinearity error of Lu,
 /// Hager & Mjolsness (2000), by Gauss-Newton from `initial_ahat_from_tool` (e.g. a Kabsch fit to
 /// range-based centres, which also picks the right branch of a planar structure's two poses). Uses
