@@ -219,12 +219,12 @@ py::tuple Multipath(const ArrayF& range_mm,
                     const py::array_t<std::uint16_t, py::array::c_style | py::array::forcecast>& ab,
                     const AhatCamera& camera,
                     const std::optional<MultipathCorrectionOptions>& options,
-                    const std::optional<RangeNormalOptions>& normal_options) {
+                    const std::optional<RangeNormalOptions>& normal_options, bool ab_lossy) {
   MultipathCorrectionStats stats;
   const Image<float> out = RemoveMultipath(
       ImageFromArray<float>(range_mm, "range_mm"), ImageFromArray<std::uint16_t>(ab, "ab"), camera,
       options.value_or(MultipathCorrectionOptions{}), normal_options.value_or(RangeNormalOptions{}),
-      {}, &stats);
+      {.ab_square_code = ab_lossy}, &stats);
   py::dict s;
   s["pixels_corrected"] = stats.pixels_corrected;
   s["pixels_dropped"] = stats.pixels_dropped;
@@ -263,7 +263,9 @@ void DefineFrameCorrection(py::module_& m) {
         "where none; (H, W) float32 incidence theta [rad], NaN where none) (ComputeRangeNormals)");
   m.def("remove_multipath", &Multipath, py::arg("range_mm"), py::arg("ab"), py::arg("camera"),
         py::arg("options") = py::none(), py::arg("normal_options") = py::none(),
-        "(H, W) range [mm] (0 = invalid; markers removed), (H, W) AB -> "
+        py::arg("ab_lossy") = false,
+        "(H, W) range [mm] (0 = invalid; markers removed), (H, W) AB (ab_lossy: a lossy stream's "
+        "square code, Frame.ab_lossy) -> "
         "((H, W) float32 range with one-bounce multipath removed, 0 = dropped; stats dict) "
         "(RemoveMultipath, docs/correction.md 7)");
   m.def(

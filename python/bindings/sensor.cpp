@@ -119,7 +119,9 @@ void DefineSensor(py::module_& m) {
           [](const AhatFrame& f) { return OptionalArrayFromRigid(f.world_from_rig); })
       .def_readonly("host_ticks", &AhatFrame::host_ticks)
       .def_property_readonly("timestamp_s", &AhatFrame::timestamp_s)
-      .def_readonly("depth_step_mm", &AhatFrame::depth_step_mm);
+      .def_readonly("depth_step_mm", &AhatFrame::depth_step_mm)
+      .def_readonly("ab_lossy", &AhatFrame::ab_lossy,
+                    "AB is a lossy stream's square code (AB = code^2, docs/ahat.md 3.6.1)");
 
   py::class_<AhatCamera>(m, "AhatCamera", "AHAT camera model from a calibration's ray table")
       .def(py::init([](const AhatCalibration& calibration, double pixel_centre_offset_px,

@@ -32,9 +32,12 @@ CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
       wanted.pixels()[i] =
           label == PixelClass::kHead || (label == PixelClass::kOutside && !options.roi_only);
     }
-    const Image<float> surface = RemoveMultipath(
-        surface_measured, frame.ab, camera, model.multipath, options.normals,
-        {.normal = &out.normals.normal, .wanted = &wanted, .indirect_ratio = &out.indirect_ratio});
+    const Image<float> surface =
+        RemoveMultipath(surface_measured, frame.ab, camera, model.multipath, options.normals,
+                        {.normal = &out.normals.normal,
+                         .wanted = &wanted,
+                         .indirect_ratio = &out.indirect_ratio,
+                         .ab_square_code = frame.ab_lossy});
     for (std::size_t i = 0; i < measured.size(); ++i) {
       const auto label = static_cast<PixelClass>(out.segmentation.labels.pixels()[i]);
       if (label != PixelClass::kMarker && label != PixelClass::kTransition) {

@@ -289,8 +289,9 @@ IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const Aha
     for (std::size_t i = 0; i < wanted.size(); ++i) {
       wanted.pixels()[i] = seg.labels.pixels()[i] == kHead;
     }
-    surface_range = RemoveMultipath(surface_range, frame.ab, camera, sampling.multipath,
-                                    sampling.normals, {nullptr, &wanted});
+    surface_range =
+        RemoveMultipath(surface_range, frame.ab, camera, sampling.multipath, sampling.normals,
+                        {.wanted = &wanted, .ab_square_code = frame.ab_lossy});
   }
   for (const MarkerArea& area : seg.markers) {
     if (!OnHead(area, seg, sampling)) continue;

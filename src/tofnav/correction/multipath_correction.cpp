@@ -149,7 +149,7 @@ Complex IndirectIrradiance(const Eigen::Vector3d& point, const Eigen::Vector3d& 
 // AB divided by |1 + q|: the indirect light also brightens a pixel, which would overstate its
 // albedo as an emitter in the next pass.
 Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geometry,
-                         const Image<std::uint16_t>& measured_ab, Image<float>& direct_ab,
+                         const Image<float>& measured_ab, Image<float>& direct_ab,
                          const AhatCamera& camera, const MultipathCorrectionOptions& options,
                          const RangeNormalOptions& normal_options, const MultipathHints& hints,
                          MultipathCorrectionStats* stats) {
@@ -281,6 +281,20 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
   return out;
 }
 
+// The AB the albedos read: as measured, or, for a lossy stream's square code (hl2ss's clients
+// recover AB = c^2, docs/ahat.md 3.6.1), the centre (c + 1/2)^2 of the interval [c^2, (c + 1)^2)
+// that the code stands for. Its floor c^2 lies 6-13 % below the true AB on skin, and the removal
+// then predicted as much less indirect light (docs/correction.md 7.2).
+Image<float> RadiometricAb(const Image<std::uint16_t>& ab, bool square_code) {
+  Image<float> out(ab.width(), ab.height());
+  for (std::size_t i = 0; i < ab.size(); ++i) {
+    const double x = ab.pixels()[i];
+    const double code = std::floor(std::sqrt(x));
+    out.pixels()[i] = static_cast<float>(square_code && x > 0.0 ? (code + 0.5) * (code + 0.5) : x);
+  }
+  return out;
+}
+
 }  // namespace
 
 void MultipathCorrectionOptions::Check() const {
@@ -319,8 +333,8 @@ Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint
   // the indirect light dominates, at grazing edges, which then emit from the wrong places), so
   // each pass predicts the indirect light from the previous pass's corrected ranges and normals.
   Image<float> corrected = range_mm;
-  Image<float> direct_ab(w, h);
-  for (std::size_t i = 0; i < direct_ab.size(); ++i) direct_ab.pixels()[i] = ab.pixels()[i];
+  const Image<float> measured_ab = RadiometricAb(ab, hints.ab_square_code);
+  Image<float> direct_ab = measured_ab;
   for (int pass = 0; pass < options.passes; ++pass) {
     // The first pass has the caller's normals; every pass but the last corrects every pixel (the
     // next pass's emitters).
@@ -330,7 +344,7 @@ Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint
       pass_hints.wanted = hints.wanted;
       pass_hints.indirect_ratio = hints.indirect_ratio;
     }
-    Image<float> next = CorrectOnce(range_mm, corrected, ab, direct_ab, camera, options,
+    Image<float> next = CorrectOnce(range_mm, corrected, measured_ab, direct_ab, camera, options,
                                     normal_options, pass_hints, stats);
     if (options.damped && pass > 0 && pass + 1 < options.passes) {
       for (std::size_t i = 0; i < next.size(); ++i) {

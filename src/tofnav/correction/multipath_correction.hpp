@@ -64,6 +64,10 @@ struct MultipathHints {
   /// Out: when set, receives the last pass's indirect-to-direct ratio |q| per pixel (0 where none
   /// was predicted). Its error grows with it: a weight for fusion (docs/correction.md 7).
   Image<float>* indirect_ratio = nullptr;
+  /// The AB is a lossy stream's square code, AB = c^2 as hl2ss's clients recover it
+  /// (AhatFrame::ab_lossy): the albedos read the centre of the code's interval, (c + 1/2)^2, not
+  /// its floor (docs/correction.md 7.2).
+  bool ab_square_code = false;
 };
 
 /// The range image with the predicted one-bounce indirect light removed. `range_mm`: radial range

@@ -233,6 +233,39 @@ TEST(RemoveMultipath, HintsGiveTheSameRangesWhereWantedAndLeaveTheRestMeasured) 
   EXPECT_GT(compared, 10000);
 }
 
+// A lossy stream's AB arrives as hl2ss's square code c^2 (docs/ahat.md 3.6.1), the floor of the
+// interval [c^2, (c + 1)^2) that the code stands for. Read at the interval's centre, the emitters'
+// albedos and with them the removed shift are those of the true AB.
+TEST(RemoveMultipath, ReadsALossyStreamsSquareCodeAtItsIntervalsCentre) {
+  // The floor of each code reads the walls' AB (a few hundred counts) about 5 % low, and the
+  // removed shift with it (4.6 % here).
+  constexpr double kFloorLowBy = 0.03;
+  // The centre is exact for an AB spread evenly over a code's interval; over smoothly varying
+  // walls the codes' offsets average out to well under a tenth of that.
+  constexpr double kCentreWithin = 0.01;
+  const sim::RenderResult on = Render(CornerScene(true), 1.0);
+  const Image<float> measured = RangeAsFloat(on.frame.range_mm);
+  Image<std::uint16_t> coded = on.frame.ab;
+  for (std::uint16_t& x : coded.pixels()) {
+    const auto c = static_cast<std::uint16_t>(std::floor(std::sqrt(static_cast<double>(x))));
+    x = static_cast<std::uint16_t>(c * c);
+  }
+  const MultipathCorrectionOptions options = OptionsFor(sim::IdealRenderOptions());
+  const auto mean_shift = [&](const Image<std::uint16_t>& ab, bool square_code) {
+    MultipathCorrectionStats stats;
+    RemoveMultipath(measured, ab, TestCamera(), options, {}, {.ab_square_code = square_code},
+                    &stats);
+    return stats.mean_shift_mm;
+  };
+  const double raw = mean_shift(on.frame.ab, false);
+  const double floor = mean_shift(coded, false), centre = mean_shift(coded, true);
+  RecordProperty("shift_raw_mm", std::to_string(raw));
+  RecordProperty("shift_square_code_floor_mm", std::to_string(floor));
+  RecordProperty("shift_square_code_centre_mm", std::to_string(centre));
+  EXPECT_LT(floor, (1.0 - kFloorLowBy) * raw);
+  EXPECT_NEAR(centre, raw, kCentreWithin * raw);
+}
+
 TEST(RemoveMultipath, OffReturnsTheRangeUnchangedAndBadInputIsRefused) {
   const sim::RenderResult on = Render(CornerScene(true), 1.0);
   const Image<float> measured = RangeAsFloat(on.frame.range_mm);
