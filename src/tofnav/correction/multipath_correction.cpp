@@ -289,8 +289,12 @@ Image<float> RadiometricAb(const Image<std::uint16_t>& ab, bool square_code) {
   Image<float> out(ab.width(), ab.height());
   for (std::size_t i = 0; i < ab.size(); ++i) {
     const double x = ab.pixels()[i];
+    if (!square_code || x <= 0.0) {
+      out.pixels()[i] = static_cast<float>(x);
+      continue;
+    }
     const double code = std::floor(std::sqrt(x));
-    out.pixels()[i] = static_cast<float>(square_code && x > 0.0 ? (code + 0.5) * (code + 0.5) : x);
+    out.pixels()[i] = static_cast<float>((code + 0.5) * (code + 0.5));
   }
   return out;
 }
