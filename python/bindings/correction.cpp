@@ -193,13 +193,19 @@ void DefineOptions(py::module_& m) {
       .def_readwrite("max_indirect_ratio", &MultipathCorrectionOptions::max_indirect_ratio)
       .def_readwrite("passes", &MultipathCorrectionOptions::passes)
       .def_readwrite("alias_mm", &MultipathCorrectionOptions::alias_mm);
+  OptionsClass<IntensityAbOptions>(m, "IntensityAbOptions",
+                                   "the AB the intensity term reads (docs/correction.md 2.10)")
+      .def_readwrite("window_mean", &IntensityAbOptions::window_mean)
+      .def_readwrite("radius_px", &IntensityAbOptions::radius_px)
+      .def_readwrite("same_surface_mm_per_px", &IntensityAbOptions::same_surface_mm_per_px);
   OptionsClass<CorrectRangeOptions>(m, "CorrectRangeOptions", "CorrectFrame options")
       .def_readwrite("marker_model", &CorrectRangeOptions::marker_model)
       .def_readwrite("segmentation", &CorrectRangeOptions::segmentation)
       .def_readwrite("normals", &CorrectRangeOptions::normals)
       .def_readwrite("roi_only", &CorrectRangeOptions::roi_only)
       .def_readwrite("drop_without_normal", &CorrectRangeOptions::drop_without_normal)
-      .def_readwrite("max_incidence_rad", &CorrectRangeOptions::max_incidence_rad);
+      .def_readwrite("max_incidence_rad", &CorrectRangeOptions::max_incidence_rad)
+      .def_readwrite("intensity_ab", &CorrectRangeOptions::intensity_ab);
 }
 
 py::tuple Normals(const ArrayF& range_mm, const AhatCamera& camera,

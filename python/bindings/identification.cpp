@@ -56,7 +56,8 @@ void DefineIdentificationOptions(py::module_& m) {
       .def_readwrite("marker_ring_px", &IdentificationSampling::marker_ring_px)
       .def_readwrite("min_marker_head_fraction", &IdentificationSampling::min_marker_head_fraction)
       .def_readwrite("max_sticker_curvature_per_mm",
-                     &IdentificationSampling::max_sticker_curvature_per_mm);
+                     &IdentificationSampling::max_sticker_curvature_per_mm)
+      .def_readwrite("intensity_ab", &IdentificationSampling::intensity_ab);
   OptionsClass<IdentificationOptions>(m, "IdentificationOptions", "IdentifyDepthModel options")
       .def_readwrite("marker_thickness_mm", &IdentificationOptions::marker_thickness_mm)
       .def_readwrite("huber_scale_mm", &IdentificationOptions::huber_scale_mm)

@@ -16,6 +16,7 @@ from ._tofnav import (  # noqa: F401
     IdentificationFrame,
     IdentificationOptions,
     IdentificationSampling,
+    IntensityAbOptions,
     Marker,
     MarkerRangeModel,
     MultipathCorrectionOptions,

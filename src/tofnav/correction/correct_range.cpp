@@ -45,6 +45,10 @@ CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
       }
     }
   }
+  options.intensity_ab.Check();
+  const Image<float> decoded_ab = model.use_intensity && options.intensity_ab.window_mean
+                                      ? DecodedAb(frame.ab, frame.ab_lossy)
+                                      : Image<float>();
   const int w = measured.width(), h = measured.height();
   out.range_mm = Image<float>(w, h);
   for (int v = 0; v < h; ++v) {
@@ -64,7 +68,10 @@ CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
         theta = 0.0;
       }
       if (theta > options.max_incidence_rad) continue;
-      const double corrected = model.CorrectRangeMm(d, theta, frame.ab(u, v));
+      const double ab = model.use_intensity ? IntensityAbAt(frame.ab, decoded_ab, surface_measured,
+                                                            u, v, options.intensity_ab)
+                                            : 0.0;
+      const double corrected = model.CorrectRangeMm(d, theta, ab);
       if (corrected > 0.0) out.range_mm(u, v) = static_cast<float>(corrected);
     }
   }

@@ -5,6 +5,7 @@
 #include "tofnav/core/image.hpp"
 #include "tofnav/correction/depth_error_model.hpp"
 #include "tofnav/correction/frame_segmentation.hpp"
+#include "tofnav/correction/intensity_ab.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/correction/range_normals.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
@@ -25,6 +26,8 @@ struct CorrectRangeOptions {
   /// Surface pixels seen at a larger incidence are dropped: their C3 theta term rests on the least
   /// reliable normals [rad]; pi / 2 keeps them all.
   double max_incidence_rad = 1.5707963267948966;
+  /// The AB the intensity term reads (the identification's sampling reads it the same way).
+  IntensityAbOptions intensity_ab;
 };
 
 struct CorrectedFrame {
@@ -41,7 +44,8 @@ struct CorrectedFrame {
 Image<float> SurfaceRange(const Image<float>& range_mm, const FrameSegmentation& segmentation);
 
 /// Corrects one frame: segmentation, normals on the measured surface range (SurfaceRange), theta,
-/// then Eq. (4) d' = (d - C1 - C3 g(theta) - C4 h(AB)) / (1 + C2) on surface pixels and Eq. (2) d'
+/// then Eq. (4) d' = (d - C1 - C3 g(theta) - C4 h(AB)) / (1 + C2) on surface pixels (AB:
+/// IntensityAbAt) and Eq. (2) d'
 /// = d - f_rf(d) on marker pixels. Throws std::invalid_argument on bad options or sizes.
 CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
                             const DepthErrorModel& model, const CorrectRangeOptions& options = {});

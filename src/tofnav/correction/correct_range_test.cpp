@@ -4,8 +4,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
+#include <random>
+#include <vector>
 
 #include "correction_test_scenes.hpp"
 
@@ -115,6 +119,82 @@ TEST(CorrectRangeImage, DropsSurfacePixelsSeenBeyondTheMaximumIncidence) {
   }
   EXPECT_GT(dropped, 1000);
   EXPECT_GT(kept, 81);  // the marker and the pixels seen nearly head-on
+}
+
+// A dark surface far away (true AB 12-24 counts) streamed lossily: each pixel's AB scatters by
+// 15 % (shot noise) and is then sent as hl2ss's square code c, recovered as c^2. The range carries
+// the model's bias at the true AB, intensity term C4 = 2 mm per ln unit.
+TEST(CorrectRangeImage, ReadsTheIntensityTermsAbOverTheSurfaceNotPerPixel) {
+  // The range error of the AB reading alone (against the same range corrected at the true AB):
+  // the window's mean of the codes' interval centres is unbiased to about 0.02 in ln AB (0.04 mm
+  // through C4). One pixel's floor c^2 (hl2ss's reading, the default) lies 0.1-0.3 low in ln AB,
+  // 0.2-0.6 mm through C4, and scatters by about 0.25 in ln AB; the 7 x 7 window's mean scatters
+  // several times less (49 pixels: 7 times, bar the edges).
+  constexpr double kWindowMedianTolMm = 0.1;
+  constexpr double kFloorMinBiasMm = 0.2;
+  constexpr double kScatterRatio = 3.0;
+  DepthErrorModel model = KnownModel();
+  model.use_intensity = true;
+  model.c4_mm = 2.0;
+  model.ab_reference = 16.0;
+  const testing::TestPlane plane = testing::TiltedPlane(600.0, 0.3);
+  const auto true_ab = [](int u) { return 12.0 + 12.0 * (u - 180) / 160.0; };
+  AhatFrame frame = testing::SyntheticFrame(
+      [&](int, int, const Eigen::Vector3d& ray) { return plane.Range(ray); },
+      [&](double d, int u, int v) {
+        const Eigen::Vector3d ray = CorrectionCamera().PixelRay(u, v).cast<double>();
+        return d + model.BiasMm(d, plane.Incidence(ray), true_ab(u));
+      },
+      0, nullptr, 180, 340);
+  Image<float> truth(frame.range_mm.width(), frame.range_mm.height());
+  std::mt19937 rng(7);
+  std::normal_distribution<double> shot(0.0, 0.15);
+  for (int v = 180; v <= 340; ++v) {
+    for (int u = 180; u <= 340; ++u) {
+      if (frame.range_mm(u, v) == 0) continue;
+      const Eigen::Vector3d ray = CorrectionCamera().PixelRay(u, v).cast<double>();
+      truth(u, v) = static_cast<float>(plane.Range(ray));
+      const double code = std::floor(std::sqrt(true_ab(u) * std::exp(shot(rng))));
+      frame.ab(u, v) = static_cast<std::uint16_t>(code * code);
+    }
+  }
+  struct Errors {
+    double median_mm, scatter_mm;  // median and 1.4826 MAD of the AB reading's range error
+  };
+  frame.ab_lossy = true;
+  const auto errors_of = [&](bool window_mean) {
+    CorrectRangeOptions options;
+    options.segmentation.head_region.enabled = false;  // a plane is the surface here
+    options.roi_only = false;
+    options.intensity_ab.window_mean = window_mean;
+    const CorrectedFrame corrected = CorrectFrame(frame, CorrectionCamera(), model, options);
+    std::vector<double> e;
+    for (int v = 190; v <= 330; ++v) {
+      for (int u = 190; u <= 330; ++u) {
+        if (corrected.range_mm(u, v) <= 0.0f || truth(u, v) <= 0.0f) continue;
+        // Against the same range corrected at the true AB: the AB reading's error alone.
+        e.push_back(corrected.range_mm(u, v) -
+                    model.CorrectRangeMm(frame.range_mm(u, v),
+                                         corrected.normals.incidence_rad(u, v), true_ab(u)));
+      }
+    }
+    EXPECT_GT(e.size(), 10000u);
+    const auto median = [](std::vector<double> x) {
+      std::nth_element(x.begin(), x.begin() + x.size() / 2, x.end());
+      return x[x.size() / 2];
+    };
+    const double m = median(e);
+    for (double& x : e) x = std::abs(x - m);
+    return Errors{m, 1.4826 * median(e)};
+  };
+  const Errors window = errors_of(true), floor = errors_of(false);
+  std::printf(
+      "AB reading's range error, median / scatter [mm]: window %+.3f / %.3f, one pixel's floor "
+      "%+.3f / %.3f\n",
+      window.median_mm, window.scatter_mm, floor.median_mm, floor.scatter_mm);
+  EXPECT_LT(std::abs(window.median_mm), kWindowMedianTolMm);
+  EXPECT_GT(std::abs(floor.median_mm), kFloorMinBiasMm);
+  EXPECT_GT(floor.scatter_mm, kScatterRatio * window.scatter_mm);
 }
 
 // KnownModel with the angle term `term` and an intensity term of 0.7 mm per ln unit.

@@ -19,13 +19,16 @@ namespace {
 
 constexpr auto kHead = static_cast<std::uint8_t>(PixelClass::kHead);
 
+// `decoded_ab`: DecodedAb of the frame; the sample's AB is the intensity term's (IntensityAbAt).
 std::optional<SurfaceSample> Sample(const Image<float>& surface_range, const AhatFrame& frame,
-                                    const AhatCamera& camera, int u, int v,
-                                    const RangeNormalOptions& options) {
-  const std::optional<PixelNormal> n = ComputePixelNormal(surface_range, camera, u, v, options);
+                                    const Image<float>& decoded_ab, const AhatCamera& camera, int u,
+                                    int v, const IdentificationSampling& sampling) {
+  const std::optional<PixelNormal> n =
+      ComputePixelNormal(surface_range, camera, u, v, sampling.normals);
   if (!n) return std::nullopt;
   return SurfaceSample{camera.PixelRay(u, v), surface_range(u, v), n->incidence_rad,
-                       static_cast<float>(frame.ab(u, v))};
+                       static_cast<float>(IntensityAbAt(frame.ab, decoded_ab, surface_range, u, v,
+                                                        sampling.intensity_ab))};
 }
 
 // Centroid and principal axes of the points (columns by ascending variance: column 0 is the
@@ -174,8 +177,8 @@ void ShortenForEntranceAngle(MarkerPatch& patch, bool patch_has_frame, double ga
 
 MarkerPatch MakePatch(const MarkerArea& area, Points3d marker_points,
                       const Image<float>& surface_range, const FrameSegmentation& seg,
-                      const AhatFrame& frame, const AhatCamera& camera,
-                      const IdentificationSampling& sampling) {
+                      const AhatFrame& frame, const Image<float>& decoded_ab,
+                      const AhatCamera& camera, const IdentificationSampling& sampling) {
   MarkerPatch patch;
   patch.scale_mm = sampling.patch_radius_mm;
   patch.marker_points = std::move(marker_points);
@@ -194,7 +197,7 @@ MarkerPatch MakePatch(const MarkerArea& area, Points3d marker_points,
   }
   for (int i : EvenSubsample(static_cast<int>(candidates.size()), sampling.max_patch_points)) {
     const Eigen::Vector2i& px = candidates[static_cast<std::size_t>(i)];
-    const auto s = Sample(surface_range, frame, camera, px.x(), px.y(), sampling.normals);
+    const auto s = Sample(surface_range, frame, decoded_ab, camera, px.x(), px.y(), sampling);
     if (s) patch.neighbours.push_back(*s);
   }
   if (static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points) {
@@ -213,6 +216,7 @@ MarkerPatch MakePatch(const MarkerArea& area, Points3d marker_points,
 void IdentificationSampling::Check() const {
   segmentation.Check();
   normals.Check();
+  intensity_ab.Check();
   if (!(patch_radius_mm > 0.0) || min_patch_points < 10 || max_patch_points < min_patch_points ||
       max_marker_points < 1 || max_head_points < 10) {
     throw std::invalid_argument(
@@ -293,6 +297,9 @@ IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const Aha
         RemoveMultipath(surface_range, frame.ab, camera, sampling.multipath, sampling.normals,
                         {.wanted = &wanted, .ab_square_code = frame.ab_lossy});
   }
+  const Image<float> decoded_ab = sampling.intensity_ab.window_mean
+                                      ? DecodedAb(frame.ab, frame.ab_lossy)
+                                      : Image<float>();  // IntensityAbAt reads frame.ab then
   for (const MarkerArea& area : seg.markers) {
     if (!OnHead(area, seg, sampling)) continue;
     Points3d points = MarkerPoints(area, frame, camera, marker_model, sampling);
@@ -301,7 +308,7 @@ IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const Aha
       continue;
     }
     MarkerPatch patch =
-        MakePatch(area, std::move(points), surface_range, seg, frame, camera, sampling);
+        MakePatch(area, std::move(points), surface_range, seg, frame, decoded_ab, camera, sampling);
     ShortenForEntranceAngle(patch,
                             static_cast<int>(patch.neighbours.size()) >= sampling.min_patch_points,
                             marker_model.entrance_gain_mm_per_rad);
@@ -318,7 +325,7 @@ IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const Aha
     for (int v = 0; v < camera.height(); v += stride) {
       for (int u = 0; u < camera.width(); u += stride) {
         if (seg.labels(u, v) != kHead) continue;
-        const auto s = Sample(surface_range, frame, camera, u, v, sampling.normals);
+        const auto s = Sample(surface_range, frame, decoded_ab, camera, u, v, sampling);
         if (s) out.head.push_back(*s);
       }
     }

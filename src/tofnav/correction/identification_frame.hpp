@@ -13,6 +13,7 @@
 #include "tofnav/core/rigid3d.hpp"
 #include "tofnav/correction/depth_error_model.hpp"
 #include "tofnav/correction/frame_segmentation.hpp"
+#include "tofnav/correction/intensity_ab.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/correction/range_normals.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
@@ -76,6 +77,8 @@ struct IdentificationSampling {
   /// One-bounce multipath removed from the surface range before sampling (docs/correction.md 7);
   /// the identified model carries these options so that correction prepares ranges the same way.
   MultipathCorrectionOptions multipath;
+  /// The AB the samples carry for the intensity term, read as CorrectFrame reads it.
+  IntensityAbOptions intensity_ab;
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
 

@@ -14,6 +14,7 @@
 
 #include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/parallel_for.hpp"
+#include "tofnav/correction/intensity_ab.hpp"
 
 namespace tofnav {
 namespace {
@@ -281,24 +282,6 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
   return out;
 }
 
-// The AB the albedos read: as measured, or, for a lossy stream's square code (hl2ss's clients
-// recover AB = c^2, docs/ahat.md 3.6.1), the centre (c + 1/2)^2 of the interval [c^2, (c + 1)^2)
-// that the code stands for. Its floor c^2 lies 6-13 % below the true AB on skin, and the removal
-// then predicted as much less indirect light (docs/correction.md 7.2).
-Image<float> RadiometricAb(const Image<std::uint16_t>& ab, bool square_code) {
-  Image<float> out(ab.width(), ab.height());
-  for (std::size_t i = 0; i < ab.size(); ++i) {
-    const double x = ab.pixels()[i];
-    if (!square_code || x <= 0.0) {
-      out.pixels()[i] = static_cast<float>(x);
-      continue;
-    }
-    const double code = std::floor(std::sqrt(x));
-    out.pixels()[i] = static_cast<float>((code + 0.5) * (code + 0.5));
-  }
-  return out;
-}
-
 }  // namespace
 
 void MultipathCorrectionOptions::Check() const {
@@ -337,7 +320,10 @@ Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint
   // the indirect light dominates, at grazing edges, which then emit from the wrong places), so
   // each pass predicts the indirect light from the previous pass's corrected ranges and normals.
   Image<float> corrected = range_mm;
-  const Image<float> measured_ab = RadiometricAb(ab, hints.ab_square_code);
+  // The albedos read a lossy stream's square code at its interval's centre: its floor c^2 lies
+  // 6-13 % below the true AB on skin, and the removal then predicted as much less indirect light
+  // (docs/correction.md 7.2).
+  const Image<float> measured_ab = DecodedAb(ab, hints.ab_square_code);
   Image<float> direct_ab = measured_ab;
   for (int pass = 0; pass < options.passes; ++pass) {
     // The first pass has the caller's normals; every pass but the last corrects every pixel (the
