@@ -45,8 +45,8 @@ Image<float> SurfaceRange(const Image<float>& range_mm, const FrameSegmentation&
 
 /// Corrects one frame: segmentation, normals on the measured surface range (SurfaceRange), theta,
 /// then Eq. (4) d' = (d - C1 - C3 g(theta) - C4 h(AB)) / (1 + C2) on surface pixels (AB:
-/// IntensityAbAt) and Eq. (2) d'
-/// = d - f_rf(d) on marker pixels. Throws std::invalid_argument on bad options or sizes.
+/// IntensityAbAt) and Eq. (2) d' = d - f_rf(d) on marker pixels. Throws std::invalid_argument on
+/// bad options or sizes.
 CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
                             const DepthErrorModel& model, const CorrectRangeOptions& options = {});
 
