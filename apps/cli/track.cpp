@@ -3,7 +3,6 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -110,6 +109,10 @@ int RunTrack(int argc, char** argv) {
   app.add_flag("--position-in-ahat", position_in_ahat,
                "filter the position in ahat alone, not fused with the one held in the world "
                "(docs/tracking.md 1)");
+  bool independent_rig_error = false;
+  app.add_flag("--independent-rig-error", independent_rig_error,
+               "fuse each tool's position with its own prediction alone, not with the rig "
+               "pose's error shared by the frame's tools (docs/tracking.md 1)");
   app.add_option("--max-fre", options.pose.max_fre_mm, "FRE acceptance [mm]");
   bool keep_void_poses = false;
   app.add_flag("--keep-void-poses", keep_void_poses,
@@ -138,6 +141,7 @@ int RunTrack(int argc, char** argv) {
   options.filter_enabled = !no_filter;
   options.rotation_in_world = !ahat_filter;
   options.position_in_world = !position_in_ahat;
+  options.share_rig_error = !independent_rig_error;
   if (method == Method::kPaper) UsePaperTracking(options);
   options.pose.refuse_void_poses = !keep_void_poses;
   if (drop_damaged) options.pose.robust.drop_damaged = true;

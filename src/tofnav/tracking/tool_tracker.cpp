@@ -33,6 +33,25 @@ Rigid3d Shifted(const Rigid3d& ahat_from_frame, const Eigen::Vector3d& offset) {
   return Rigid3d(ahat_from_frame.rotation, ahat_from_frame * offset);
 }
 
+// The frame's world-fixed tools' positions fused again, the rig pose's error shared
+// (ToolTrackerOptions::share_rig_error): only tools the world filter fused this frame take part.
+void FuseSharedRigError(std::vector<std::optional<Rigid3d>>& filtered_of,
+                        const std::vector<std::optional<WorldPointTerms>>& terms_of,
+                        double rig_variance_mm2, double gate_chi2) {
+  std::vector<WorldPointTerms> points;
+  std::vector<std::size_t> tool_of;
+  for (std::size_t t = 0; t < filtered_of.size(); ++t) {
+    if (filtered_of[t] && terms_of[t]) {
+      points.push_back(*terms_of[t]);
+      tool_of.push_back(t);
+    }
+  }
+  if (points.size() < 2) return;  // alone, each tool is fused already
+  const std::vector<Eigen::Vector3d> fused =
+      FuseWithSharedRigError(points, rig_variance_mm2, gate_chi2);
+  for (std::size_t i = 0; i < points.size(); ++i) filtered_of[tool_of[i]]->translation = fused[i];
+}
+
 }  // namespace
 
 void ToolTrackerOptions::Check() const {
@@ -51,6 +70,8 @@ void ToolTrackerOptions::Check() const {
               rotation_noise_growth_range_mm > 0.0 && std::isfinite(noise_growth_exponent) &&
               noise_growth_exponent >= 0.0,
           "ToolTrackerOptions: the noise growth ranges must be > 0 and noise_growth_exponent >= 0");
+  Require(std::isfinite(partial_variance_scale) && partial_variance_scale >= 1.0,
+          "ToolTrackerOptions::partial_variance_scale must be >= 1");
   Require(camera_motion_bandwidth_per_s >= 0.0 && camera_motion_baseline_s > 0.0,
           "ToolTrackerOptions: camera_motion_bandwidth_per_s must be >= 0 and "
           "camera_motion_baseline_s > 0");
@@ -127,6 +148,9 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
   }
   TrackingFrame frame;
   frame.timestamp_s = timestamp_s;
+  // Per tool: its filtered pose of the centroid frame, and the world position's fusion terms.
+  std::vector<std::optional<Rigid3d>> filtered_of(tools_.size());
+  std::vector<std::optional<WorldPointTerms>> terms_of(tools_.size());
   std::vector<ToolPoseResult> poses =
       EstimateToolPoses(detections, tools_, prior, options_.pose, dropped, void_test);
   for (std::size_t t = 0; t < tools_.size(); ++t) {
@@ -161,9 +185,14 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       }
       const ToolPoseResult& m = tracked.measurement;
       const int dof = 3 * m.used_markers - 6;
-      const double scale = options_.inflate_noise_by_fit && dof > 0
-                               ? std::max(1.0, m.noise_chi2 / static_cast<double>(dof))
-                               : 1.0;
+      const double fit_scale = options_.inflate_noise_by_fit && dof > 0
+                                   ? std::max(1.0, m.noise_chi2 / static_cast<double>(dof))
+                                   : 1.0;
+      // A pose matched on fewer than all of the tool's markers counts for less
+      // (ToolTrackerOptions::partial_variance_scale).
+      const double scale =
+          fit_scale *
+          (m.status == ToolStatus::kPartiallyOccluded ? options_.partial_variance_scale : 1.0);
       const double range_mm = measured.translation.norm();
       const double range_scale = RangeVarianceScale(range_mm, options_.noise_growth_range_mm,
                                                     options_.noise_growth_exponent);
@@ -206,13 +235,21 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
                .estimate_variance_ratio = update.gated ? 1.0 : update.position_variance_ratio},
               *world_from_ahat, timestamp_s, rig_jitter_);
           if (position.fused_in_ahat) filtered.translation = *position.fused_in_ahat;
+          terms_of[t] = position.terms;
         }
       }
-      if (!update.gated) {
-        tracked.filtered_ahat_from_tool = Shifted(filtered, -centroid_in_tool_[t]);
-      }
+      if (!update.gated) filtered_of[t] = filtered;
     }
     frame.tools.push_back(std::move(tracked));
+  }
+  if (options_.share_rig_error) {
+    FuseSharedRigError(filtered_of, terms_of, rig_jitter_.variance_mm2(),
+                       options_.world_position.gate_chi2);
+  }
+  for (std::size_t t = 0; t < tools_.size(); ++t) {
+    if (filtered_of[t]) {
+      frame.tools[t].filtered_ahat_from_tool = Shifted(*filtered_of[t], -centroid_in_tool_[t]);
+    }
   }
   return frame;
 }

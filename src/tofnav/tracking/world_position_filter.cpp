@@ -3,8 +3,11 @@
 #include "tofnav/tracking/world_position_filter.hpp"
 
 #include <Eigen/Cholesky>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
+#include <optional>
+#include <utility>
 
 #include "tofnav/core/require.hpp"
 
@@ -25,7 +28,75 @@ Eigen::Matrix3d MeasurementNoise(const Eigen::Vector3d& point_in_ahat,
          (along * along - across * across) * u * u.transpose();
 }
 
+// The shared rig error's posterior (mean, covariance) from the points in `use`: its prior is
+// rig_variance_mm2 per axis, each point's innovation is it plus noise of the point's held and
+// estimate covariances.
+std::pair<Eigen::Vector3d, Eigen::Matrix3d> SharedError(std::span<const WorldPointTerms> points,
+                                                        const std::vector<bool>& use,
+                                                        double rig_variance_mm2) {
+  Eigen::Matrix3d information = Eigen::Matrix3d::Identity() / rig_variance_mm2;
+  Eigen::Vector3d weighted = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!use[i]) continue;
+    const WorldPointTerms& p = points[i];
+    const Eigen::Matrix3d s_inv = (p.held_cov_mm2 + p.estimate_cov_mm2).inverse();
+    information += s_inv;
+    weighted += s_inv * (p.estimate_in_ahat - p.predicted_in_ahat);
+  }
+  const Eigen::Matrix3d cov = information.inverse();
+  return {cov * weighted, cov};
+}
+
 }  // namespace
+
+std::vector<Eigen::Vector3d> FuseWithSharedRigError(std::span<const WorldPointTerms> points,
+                                                    double rig_variance_mm2, double gate_chi2,
+                                                    std::vector<bool>* joined) {
+  Require(rig_variance_mm2 > 0.0 && gate_chi2 > 0.0,
+          "FuseWithSharedRigError: the rig variance and the gate must be > 0");
+  const std::size_t n = points.size();
+  // Each point against the shared error the others give; the worst disagreeing one leaves, and
+  // the rest are checked again (one moved tool must not drag the others out with it).
+  std::vector<bool> use(n, true);
+  for (std::size_t left = n; left > 1; --left) {
+    double worst_chi2 = gate_chi2;
+    std::optional<std::size_t> worst;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!use[i]) continue;
+      std::vector<bool> others = use;
+      others[i] = false;
+      const auto [error, cov] = SharedError(points, others, rig_variance_mm2);
+      const WorldPointTerms& p = points[i];
+      const Eigen::Vector3d d = p.estimate_in_ahat - p.predicted_in_ahat - error;
+      const Eigen::Matrix3d s = p.held_cov_mm2 + p.estimate_cov_mm2 + cov;
+      const double chi2 = d.dot(s.ldlt().solve(d));
+      if (chi2 > worst_chi2) {
+        worst_chi2 = chi2;
+        worst = i;
+      }
+    }
+    if (!worst) break;
+    use[*worst] = false;
+  }
+  if (std::count(use.begin(), use.end(), true) < 2) use.assign(n, false);
+  std::vector<Eigen::Vector3d> fused(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    std::vector<bool> with = use;
+    if (!use[i]) {  // alone: the shared error from its own innovation only
+      with.assign(n, false);
+      with[i] = true;
+    }
+    const Eigen::Vector3d error = SharedError(points, with, rig_variance_mm2).first;
+    // The point is the prediction plus the shared error plus the held position's own error,
+    // which the innovation left after the shared error tells (Gaussian conditioning).
+    const WorldPointTerms& p = points[i];
+    const Eigen::Matrix3d s = p.held_cov_mm2 + p.estimate_cov_mm2;
+    const Eigen::Vector3d rest = p.estimate_in_ahat - p.predicted_in_ahat - error;
+    fused[i] = p.predicted_in_ahat + error + p.held_cov_mm2 * s.ldlt().solve(rest);
+  }
+  if (joined) *joined = use;
+  return fused;
+}
 
 void WorldPositionOptions::Check() const {
   Require(along_ray_sigma_mm > 0.0 && across_ray_sigma_mm > 0.0 && noise_range_mm > 0.0 &&
@@ -138,11 +209,13 @@ WorldPositionUpdate WorldPositionFilter::Update(const WorldPositionInput& input,
     return out;
   }
   gated_in_a_row_ = 0;
-  const Eigen::Matrix3d estimate = input.estimate_variance_ratio * measurement;
+  out.terms = WorldPointTerms{.predicted_in_ahat = predicted,
+                              .held_cov_mm2 = held,
+                              .estimate_in_ahat = input.estimate_in_ahat,
+                              .estimate_cov_mm2 = input.estimate_variance_ratio * measurement};
   out.fused_in_ahat =
-      predicted +
-      (held + jitter_cov) *
-          (estimate + held + jitter_cov).ldlt().solve(input.estimate_in_ahat - predicted);
+      FuseWithSharedRigError(std::span(&*out.terms, 1), jitter.variance_mm2(), options_.gate_chi2)
+          .front();
   // Update the world state with the measurement mapped by the rig pose (its jitter included):
   // the innovation covariance in `world` is R S R^T, so its inverse is R S^-1 R^T.
   const Eigen::Matrix<double, 6, 3> gain =

@@ -5,6 +5,8 @@
 
 #include <Eigen/Core>
 #include <optional>
+#include <span>
+#include <vector>
 
 #include "tofnav/core/rigid3d.hpp"
 
@@ -23,11 +25,14 @@ struct WorldPositionOptions {
   double noise_range_mm = 550.0;
   double along_ray_exponent = 2.5;
   double across_ray_exponent = 1.5;
-  /// The tool's motion in the world: constant velocity with this white acceleration. A tool
-  /// fixed to the patient's head drifts with it, slowly and steadily (the simulator's drift: 1
-  /// mm/s); a real move is gated and restarts the filter.
-  double accel_sigma_mm_per_s2 = 0.3;
-  double initial_speed_sigma_mm_per_s = 5.0;  // at (re-)initialisation
+  /// The tool's motion in the world: constant velocity with this white acceleration, starting
+  /// (at each (re-)initialisation) from rest with this speed sd. A tool fixed to the patient's
+  /// head drifts with it, slowly and steadily (a head settling on its support: about 1 mm/s, the
+  /// simulator's drift cases); a real move is gated and restarts the filter. A looser model
+  /// (0.3 mm/s^2, 5 mm/s until session 46) held the position no better than a few frames of a
+  /// 6 Hz session with look-aways do (docs/tracking.md 1).
+  double accel_sigma_mm_per_s2 = 0.1;
+  double initial_speed_sigma_mm_per_s = 1.0;
   double max_gap_s = 5.0;    // no accepted measurement for longer: re-initialise on the next
   double gate_chi2 = 16.27;  // innovation gate, chi-square with 3 degrees of freedom: p = 0.999
   int max_gated = 3;         // after this many consecutive gated measurements: re-initialise
@@ -68,13 +73,39 @@ struct WorldPositionInput {
   double estimate_variance_ratio = 1.0;
 };
 
+/// One world-fixed point's terms in a frame: its held world position predicted into `ahat`
+/// through the frame's rig pose (the held position's covariance mapped there, the rig pose's
+/// error not included) and the caller's estimate of the point with its covariance.
+struct WorldPointTerms {
+  Eigen::Vector3d predicted_in_ahat = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d held_cov_mm2 = Eigen::Matrix3d::Zero();
+  Eigen::Vector3d estimate_in_ahat = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d estimate_cov_mm2 = Eigen::Matrix3d::Identity();
+};
+
 struct WorldPositionUpdate {
   /// The measurement fused with the held world position, in `ahat`; nullopt when the filter
   /// (re-)started from this measurement or gated it (the caller keeps its own estimate).
   std::optional<Eigen::Vector3d> fused_in_ahat;
+  /// The terms fused_in_ahat was fused from (set with it): FuseWithSharedRigError fuses them
+  /// again with those of the frame's other world-fixed points.
+  std::optional<WorldPointTerms> terms;
   bool gated = false;
   bool reset = false;
 };
+
+/// The frame's world-fixed points fused with their predictions, the rig pose's error shared by
+/// all of them (docs/tracking.md 1, "One rig pose for every tool of a frame"). Each point's
+/// prediction errs by the held position's error, its own, and the rig pose's error at the tools,
+/// one translation per frame with `rig_variance_mm2` per axis; each estimate by its own noise.
+/// The shared error's posterior takes every point's innovation, so a point's along-ray range
+/// noise is averaged with the others' where the prediction alone would carry the whole jitter.
+/// With one point this is WorldPositionFilter's own fusion. A point whose innovation disagrees
+/// with the shared error the others give (chi-square beyond `gate_chi2`, 3 degrees of freedom:
+/// a tool that moves in the world) is fused alone, and `joined` (if given) says false for it.
+std::vector<Eigen::Vector3d> FuseWithSharedRigError(std::span<const WorldPointTerms> points,
+                                                    double rig_variance_mm2, double gate_chi2,
+                                                    std::vector<bool>* joined = nullptr);
 
 /// Constant-velocity Kalman filter of one point's world position (a tool's markers' centroid).
 /// Each frame it predicts the point in `ahat` through that frame's rig pose (its error: the
