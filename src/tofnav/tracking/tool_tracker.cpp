@@ -188,9 +188,9 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       const double fit_scale = options_.inflate_noise_by_fit && dof > 0
                                    ? std::max(1.0, m.noise_chi2 / static_cast<double>(dof))
                                    : 1.0;
-      // A pose matched on fewer than all of the tool's markers counts for less
-      // (ToolTrackerOptions::partial_variance_scale).
-      const double scale =
+      // In the world filters, a pose matched on fewer than all of the tool's markers counts for
+      // less (ToolTrackerOptions::partial_variance_scale).
+      const double world_scale =
           fit_scale *
           (m.status == ToolStatus::kPartiallyOccluded ? options_.partial_variance_scale : 1.0);
       const double range_mm = measured.translation.norm();
@@ -208,7 +208,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       const PoseFilterUpdate update =
           filters_[t].Update(measured, timestamp_s,
                              {.position_accel_sigma_mm_per_s2 = accel_sigma,
-                              .measurement_variance_scale = scale,
+                              .measurement_variance_scale = fit_scale,
                               .position_variance_scale = position_scale,
                               .rotation_variance_scale = rotation_scale,
                               .gate_on_rotation = !in_world});
@@ -221,7 +221,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
       } else {
         const PoseFilterUpdate world = world_filters_[t].Update(
             *world_from_ahat * measured, timestamp_s,
-            {.measurement_variance_scale = scale, .rotation_variance_scale = rotation_scale});
+            {.measurement_variance_scale = world_scale, .rotation_variance_scale = rotation_scale});
         // Gated there, the world filter's output is its prediction: the held orientation of a
         // tool that stands still, better than the raw one the `ahat` filter may restart from.
         filtered.rotation = (world_from_ahat->Inverse() * world.filtered).rotation;
@@ -230,7 +230,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
           // many frames (its variance ratio small), while it moves it is the raw one's.
           const WorldPositionUpdate position = world_positions_[t].Update(
               {.measured_in_ahat = measured.translation,
-               .variance_scale = scale,
+               .variance_scale = world_scale,
                .estimate_in_ahat = filtered.translation,
                .estimate_variance_ratio = update.gated ? 1.0 : update.position_variance_ratio},
               *world_from_ahat, timestamp_s, rig_jitter_);

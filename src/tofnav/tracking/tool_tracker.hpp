@@ -64,12 +64,14 @@ struct ToolTrackerOptions {
   /// (docs/tracking.md 6).
   bool inflate_noise_by_fit = true;
   /// A pose matched on fewer than all of the tool's markers (kPartiallyOccluded): its noise
-  /// variances times this, in every filter. The marker that is missing is at an occluder's edge
-  /// or the image's, where the others' blobs are clipped too, and three markers cannot be checked
-  /// for an outlier: on the reference plates of spent sets 16-17 (5434 poses) a 3-of-4 pose errs
-  /// by 1.12 deg / 0.61 mm RMS against 0.52 deg / 0.27 mm for a whole one (1.2 % beyond 5 deg or
-  /// 5 mm left out), variance ratios 4.7 / 5.3 that its fit's chi-square does not show
-  /// (docs/tracking.md 1). 1: counted as a whole one.
+  /// variances times this in the world filters, which hold a still tool's pose (the `ahat`
+  /// filter must follow a hand-held tool, whose hand often hides a marker: scaled there too, it
+  /// lagged a pointer at rest by 0.35 mm, tests/verify_cli_test.sh). The marker that is missing is
+  /// at an occluder's edge or the image's, where the others' blobs are clipped too, and three
+  /// markers cannot be checked for an outlier: on the reference plates of spent sets 16-17 (5434
+  /// poses) a 3-of-4 pose errs by 1.12 deg / 0.61 mm RMS against 0.52 deg / 0.27 mm for a whole one
+  /// (1.2 % beyond 5 deg or 5 mm left out), variance ratios 4.7 / 5.3 that its fit's chi-square
+  /// does not show (docs/tracking.md 1). 1: counted as a whole one.
   double partial_variance_scale = 5.0;
   /// Beyond noise_growth_range_mm the `ahat` filter's position sigma (filter.position_sigma_mm:
   /// a pose at that range) grows as (range / noise_growth_range_mm)^noise_growth_exponent: one
