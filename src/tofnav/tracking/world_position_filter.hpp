@@ -102,7 +102,8 @@ struct WorldPositionUpdate {
 /// noise is averaged with the others' where the prediction alone would carry the whole jitter.
 /// With one point this is WorldPositionFilter's own fusion. A point whose innovation disagrees
 /// with the shared error the others give (chi-square beyond `gate_chi2`, 3 degrees of freedom:
-/// a tool that moves in the world) is fused alone, and `joined` (if given) says false for it.
+/// a tool that moves in the world) leaves, the worst first, and is fused alone. `joined` (if
+/// given): per point, whether it shared the error with at least one other.
 std::vector<Eigen::Vector3d> FuseWithSharedRigError(std::span<const WorldPointTerms> points,
                                                     double rig_variance_mm2, double gate_chi2,
                                                     std::vector<bool>* joined = nullptr);
