@@ -79,14 +79,16 @@ std::vector<Eigen::Vector3d> FuseWithSharedRigError(std::span<const WorldPointTe
     use[*worst] = false;
   }
   if (std::count(use.begin(), use.end(), true) < 2) use.assign(n, false);
+  // The joined points' shared error, once; a point fused alone takes it from its own innovation.
+  const Eigen::Vector3d joint_error = SharedError(points, use, rig_variance_mm2).first;
   std::vector<Eigen::Vector3d> fused(n);
   for (std::size_t i = 0; i < n; ++i) {
-    std::vector<bool> with = use;
-    if (!use[i]) {  // alone: the shared error from its own innovation only
-      with.assign(n, false);
-      with[i] = true;
+    Eigen::Vector3d error = joint_error;
+    if (!use[i]) {
+      std::vector<bool> alone(n, false);
+      alone[i] = true;
+      error = SharedError(points, alone, rig_variance_mm2).first;
     }
-    const Eigen::Vector3d error = SharedError(points, with, rig_variance_mm2).first;
     // The point is the prediction plus the shared error plus the held position's own error,
     // which the innovation left after the shared error tells (Gaussian conditioning).
     const WorldPointTerms& p = points[i];
