@@ -123,6 +123,10 @@ int RunTrack(int argc, char** argv) {
                "enough whole ones remain (default: kept; docs/tracking.md 6)");
   app.add_flag("--no-outlier-check", no_outlier_check,
                "no leave-one-out check of the markers' residuals (docs/tracking.md 6)");
+  bool whole_blobs = false;
+  app.add_flag("--whole-blobs", whole_blobs,
+               "weigh every matched blob as a whole one, however much smaller than its tool's "
+               "others (docs/tracking.md 6)");
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the summary as one JSON object");
   TOFNAV_PARSE(app, argc, argv);
@@ -146,6 +150,7 @@ int RunTrack(int argc, char** argv) {
   options.pose.refuse_void_poses = !keep_void_poses;
   if (drop_damaged) options.pose.robust.drop_damaged = true;
   if (no_outlier_check) options.pose.robust.check_outliers = false;
+  if (whole_blobs) options.pose.robust.truncation.enabled = false;
   const MarkerSource source = OpenMarkerSource(source_args);
   ProgressBar progress("track", quiet || json);
   const auto start = std::chrono::steady_clock::now();

@@ -79,8 +79,12 @@ std::optional<Rigid3d> RefineToolPose(std::span<const DetectedMarker> detections
                                       std::span<const int> marker_detection,
                                       const ToolGeometry& tool, const Points3d& centres,
                                       const Rigid3d& initial_ahat_from_tool,
-                                      const PoseRefinementOptions& options) {
+                                      const PoseRefinementOptions& options,
+                                      std::span<const double> extra_lateral_sigma_mm) {
   options.Check();
+  Require(
+      extra_lateral_sigma_mm.empty() || extra_lateral_sigma_mm.size() == marker_detection.size(),
+      "RefineToolPose: extra_lateral_sigma_mm must hold one sigma per tool marker");
   std::vector<std::optional<Eigen::Vector3d>> normals_in_tool(marker_detection.size());
   if (options.disc_plane_ranges && tool.marker_type == MarkerType::kDisc) {
     normals_in_tool = PlateNormals(tool);
@@ -104,7 +108,11 @@ std::optional<Rigid3d> RefineToolPose(std::span<const DetectedMarker> detections
       std::optional<Eigen::Vector3d> normal;
       if (normals_in_tool[k]) normal = pose.rotation * *normals_in_tool[k];
       const auto i = static_cast<std::size_t>(s);
-      observations.push_back(Observe(detections[i], centres[i], normal, options));
+      RayRangeObservation o = Observe(detections[i], centres[i], normal, options);
+      if (!extra_lateral_sigma_mm.empty()) {
+        o.lateral_sigma_mm = std::hypot(o.lateral_sigma_mm, extra_lateral_sigma_mm[k]);
+      }
+      observations.push_back(o);
     }
     const RayPoseResult refined = EstimatePoseFromRaysAndRanges(markers, observations, pose);
     if (!refined.converged) return std::nullopt;

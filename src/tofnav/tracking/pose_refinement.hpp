@@ -41,10 +41,13 @@ double MeanSigmaMm(std::vector<double>& values, double floor_mm);
 /// marker, an index into the detections or -1), starting from `initial_ahat_from_tool`;
 /// `centres` are the detections' centres for this tool (marker_centre.hpp). nullopt when a
 /// detection lacks a pixel pitch (hand-made) or the fit does not converge.
+/// `extra_lateral_sigma_mm`, per tool marker when not empty, adds in quadrature to a marker's
+/// lateral sigma (a truncated blob's centroid, blob_truncation.hpp).
 std::optional<Rigid3d> RefineToolPose(std::span<const DetectedMarker> detections,
                                       std::span<const int> marker_detection,
                                       const ToolGeometry& tool, const Points3d& centres,
                                       const Rigid3d& initial_ahat_from_tool,
-                                      const PoseRefinementOptions& options = {});
+                                      const PoseRefinementOptions& options = {},
+                                      std::span<const double> extra_lateral_sigma_mm = {});
 
 }  // namespace tofnav

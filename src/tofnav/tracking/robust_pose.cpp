@@ -21,8 +21,10 @@ double Chi2Quantile(int k, double z) {
 }
 
 struct Sigmas {
-  double lateral_mm = 1.0;
+  double lateral_mm = 1.0;  // as a whole blob's
   double range_mm = 1.0;
+  double truncation_mm = 0.0;  // extra across the ray, in quadrature (blob_truncation.hpp)
+  double Lateral2() const { return lateral_mm * lateral_mm + truncation_mm * truncation_mm; }
 };
 
 class Fitter {
@@ -65,8 +67,22 @@ class Fitter {
     const Rigid3d kabsch = FitRigid(source, target).target_from_source;
     if (!refinement_.enabled) return kabsch;
     const std::optional<Rigid3d> refined =
-        RefineToolPose(detections_, subset, tool_, centres_, kabsch, refinement_);
+        RefineToolPose(detections_, subset, tool_, centres_, kabsch, refinement_, truncation_mm_);
     return refined ? *refined : kabsch;
+  }
+
+  // Weighs each matched blob by its area against its siblings' at `pose`; true when any blob of
+  // `in` counts as truncated (then the pose is worth refitting).
+  bool SetTruncation(const std::vector<bool>& in, const Rigid3d& pose,
+                     const BlobTruncationOptions& options) {
+    truncation_mm_ =
+        TruncationLateralSigmasMm(detections_, marker_detection_, tool_, centres_, pose, options);
+    bool any = false;
+    for (std::size_t k = 0; k < in.size(); ++k) {
+      sigmas_[k].truncation_mm = Detection0(k) ? truncation_mm_[k] : 0.0;
+      any = any || (in[k] && sigmas_[k].truncation_mm > 0.0);
+    }
+    return any;
   }
 
   // Squared residual of marker k at `pose`, across and along its ray, in sigmas.
@@ -76,7 +92,7 @@ class Fitter {
     const double along = ray.dot(e);
     const double across2 = (e - along * ray).squaredNorm();
     const Sigmas& s = sigmas_[k];
-    return across2 / (s.lateral_mm * s.lateral_mm) + along * along / (s.range_mm * s.range_mm);
+    return across2 / s.Lateral2() + along * along / (s.range_mm * s.range_mm);
   }
 
   double Chi2(const std::vector<bool>& in, const Rigid3d& pose) const {
@@ -105,7 +121,7 @@ class Fitter {
       observations.push_back(
           {.ray_in_ahat = d.ray_in_ahat.norm() > 0.5 ? d.ray_in_ahat : Centre(k).normalized(),
            .range_mm = range_mm,
-           .lateral_sigma_mm = sigmas_[k].lateral_mm,
+           .lateral_sigma_mm = std::sqrt(sigmas_[k].Lateral2()),
            .range_sigma_mm =
                d.pixel_pitch_rad > 0.0 ? pixel_sigma_mm / std::sqrt(pixels) : sigmas_[k].range_mm});
     }
@@ -129,6 +145,9 @@ class Fitter {
   const Eigen::Vector3d& Centre(std::size_t k) const {
     return centres_[static_cast<std::size_t>(marker_detection_[k])];
   }
+  bool Detection0(std::size_t k) const {
+    return marker_detection_[k] >= 0 && Detection(k).pixel_pitch_rad > 0.0;
+  }
 
   std::span<const DetectedMarker> detections_;
   std::span<const int> marker_detection_;
@@ -136,6 +155,7 @@ class Fitter {
   const Points3d& centres_;
   const PoseRefinementOptions& refinement_;
   std::vector<Sigmas> sigmas_;
+  std::vector<double> truncation_mm_;  // per tool marker; empty: none
 };
 
 // Damaged markers out when max(3, min_visible) whole ones remain, else in as they are (the
@@ -192,6 +212,7 @@ void RobustPoseOptions::Check() const {
   Require(range_sigma_floor_mm > 0.0 && isotropic_sigma_mm > 0.0,
           "RobustPoseOptions: range_sigma_floor_mm and isotropic_sigma_mm must be > 0");
   Require(check_quantile_z > 0.0, "RobustPoseOptions::check_quantile_z must be > 0");
+  truncation.Check();
   Require(pixel_range_sigma_mm > 0.0 && pixel_range_sigma_at_mm > 0.0 &&
               std::isfinite(pixel_range_sigma_exponent),
           "RobustPoseOptions: pixel_range_sigma_mm and pixel_range_sigma_at_mm must be > 0 and "
@@ -209,8 +230,11 @@ RobustPose FitToolMarkers(std::span<const DetectedMarker> detections,
   for (std::size_t k = 0; k < in.size(); ++k) in[k] = InPose(r.use[k]);
   int n = static_cast<int>(std::count(in.begin(), in.end(), true));
   Require(n >= 3, "FitToolMarkers: fewer than 3 matched markers");
-  const Fitter fitter(detections, marker_detection, tool, centres, refinement, options);
+  Fitter fitter(detections, marker_detection, tool, centres, refinement, options);
   r.ahat_from_tool = fitter.Fit(in);
+  if (fitter.SetTruncation(in, r.ahat_from_tool, options.truncation)) {
+    r.ahat_from_tool = fitter.Fit(in);
+  }
   r.chi2 = fitter.Chi2(in, r.ahat_from_tool);
   const double z = options.check_quantile_z;
   r.outliers_checked = options.check_outliers && n >= 4 && n > needed;

@@ -10,6 +10,7 @@
 #include "tofnav/core/point_cloud.hpp"
 #include "tofnav/core/rigid3d.hpp"
 #include "tofnav/markers/marker_detection.hpp"
+#include "tofnav/tracking/blob_truncation.hpp"
 #include "tofnav/tracking/pose_refinement.hpp"
 #include "tofnav/tracking/tool_geometry.hpp"
 
@@ -56,6 +57,9 @@ struct RobustPoseOptions {
   double pixel_range_sigma_mm = 0.3;
   double pixel_range_sigma_at_mm = 350.0;
   double pixel_range_sigma_exponent = 1.5;
+  /// A blob smaller than its siblings weighs less across its ray, in the fit, the check and the
+  /// sds (blob_truncation.hpp).
+  BlobTruncationOptions truncation;
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
 

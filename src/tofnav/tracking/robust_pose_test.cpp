@@ -31,8 +31,9 @@ constexpr double kNoiseFactor = 3.0;
 const Rigid3d kTruth = testing::FacingToolPose({10.0, -20.0, 450.0}, 0.2, 0.3);
 
 // The reference tool's detections in a rendered frame; with `occluder`, a 60 x 60 x 5 mm box 40 mm
-// in front of marker kMarker, its left edge on the marker's line of sight (half the sphere hidden).
-std::vector<DetectedMarker> Detect(std::uint64_t seed, bool occluder) {
+// in front of marker kMarker, its left edge on the marker's line of sight (half the sphere hidden)
+// or `edge_offset_mm` to the right of it (less hidden).
+std::vector<DetectedMarker> Detect(std::uint64_t seed, bool occluder, double edge_offset_mm = 0.0) {
   int retro = 0;
   // One marker's wrong range is the subject: the tape's entrance-angle term, which lengthens every
   // sphere's range alike (docs/tracking.md 4), is off.
@@ -44,9 +45,9 @@ std::vector<DetectedMarker> Detect(std::uint64_t seed, bool occluder) {
     const int skin = scene.AddMaterial(sim::DiffuseMaterial(0.5));
     const Eigen::Vector3d c = kTruth * tool.markers_in_tool[kMarker];
     const Eigen::Vector3d edge = c * ((c.z() - 40.0) / c.z());
-    scene.AddObject(
-        "box", sim::BoxMesh({60.0, 60.0, 5.0}), skin,
-        Rigid3d(Eigen::Quaterniond::Identity(), edge + Eigen::Vector3d(30.0, 0.0, 0.0)));
+    scene.AddObject("box", sim::BoxMesh({60.0, 60.0, 5.0}), skin,
+                    Rigid3d(Eigen::Quaterniond::Identity(),
+                            edge + Eigen::Vector3d(30.0 + edge_offset_mm, 0.0, 0.0)));
   }
   sim::RenderOptions options;
   options.supersampling = 4;
@@ -55,11 +56,12 @@ std::vector<DetectedMarker> Detect(std::uint64_t seed, bool occluder) {
 }
 
 ToolPoseResult Pose(const std::vector<DetectedMarker>& d, const ToolGeometry& tool,
-                    bool robust = true, double max_fre_mm = 1.0) {
+                    bool robust = true, double max_fre_mm = 1.0, bool truncation = true) {
   ToolPoseOptions options;
   options.max_fre_mm = max_fre_mm;
   options.robust.drop_damaged = robust;
   options.robust.check_outliers = robust;
+  options.robust.truncation.enabled = truncation;
   return EstimateToolPoses(d, std::span<const ToolGeometry>(&tool, 1), {}, options)[0];
 }
 
@@ -177,6 +179,49 @@ TEST(RobustToolPose, AMarkerRangeOff5MmIsLeftOutAndThePoseStaysWithinTheNoise) {
     worst.Add(robust, plain, clean.back());
   }
   worst.Check("+5 mm range", CleanJitter(clean));
+}
+
+// A sphere a third hidden, kept in the pose (the default: detection flags it occluded but does not
+// leave it out): its blob, smaller than its siblings', weighs less across its ray, and the pose
+// turns less than when it counts as whole (docs/tracking.md 6).
+TEST(RobustToolPose, ATruncatedBlobWeighsLessAcrossItsRay) {
+  // The box's edge 0.3 of the sphere's radius (5.75 mm at 450 mm, 5.2 mm in the box's plane)
+  // right of its centre: about a third of its disc hidden.
+  constexpr double kEdgeOffsetMm = 1.6;
+  const ToolGeometry tool = ReferenceTool();
+  double weighted2 = 0.0, whole2 = 0.0, clean2 = 0.0;
+  for (int s = 0; s < kSeeds; ++s) {
+    const ToolPoseResult clean = Pose(Detect(400 + s, false), tool, false);
+    ASSERT_TRUE(clean.ahat_from_tool.has_value()) << s;
+    clean2 += std::pow(RotationDistanceRad(*clean.ahat_from_tool, kTruth), 2);
+    const std::vector<DetectedMarker> d = Detect(400 + s, true, kEdgeOffsetMm);
+    const ToolPoseResult weighted = Pose(d, tool, false);
+    const ToolPoseResult whole = Pose(d, tool, false, 1.0, false);
+    ASSERT_TRUE(weighted.ahat_from_tool.has_value() && whole.ahat_from_tool.has_value()) << s;
+    EXPECT_EQ(weighted.used_markers, 4) << s;
+    EXPECT_GT(weighted.rotation_sd_rad, whole.rotation_sd_rad) << s;  // and says so in its sd
+    weighted2 += std::pow(RotationDistanceRad(*weighted.ahat_from_tool, kTruth), 2);
+    whole2 += std::pow(RotationDistanceRad(*whole.ahat_from_tool, kTruth), 2);
+  }
+  const auto rms_deg = [](double sum2) { return std::sqrt(sum2 / kSeeds) * kDeg; };
+  std::printf(
+      "a third of a sphere hidden: rotation RMS %.3f deg weighted, %.3f counted whole "
+      "(clean frames %.3f)\n",
+      rms_deg(weighted2), rms_deg(whole2), rms_deg(clean2));
+  EXPECT_LE(rms_deg(weighted2), 0.6 * rms_deg(whole2));
+}
+
+TEST(BlobTruncation, TheCentroidOfADiscCutByAChordMovesAsTheGeometrySays) {
+  EXPECT_EQ(TruncatedDiscCentroidShift(1.0), 0.0);
+  // Half a disc: its centroid 4 / (3 pi) of the radius from the centre.
+  EXPECT_NEAR(TruncatedDiscCentroidShift(0.5), 4.0 / (3.0 * std::numbers::pi), 1e-9);
+  double previous = 0.0;
+  for (double a = 0.99; a > 0.05; a -= 0.01) {
+    const double shift = TruncatedDiscCentroidShift(a);
+    EXPECT_GT(shift, previous) << a;  // the less is seen, the farther the centroid
+    EXPECT_LT(shift, 1.0) << a;       // and it stays within the disc
+    previous = shift;
+  }
 }
 
 TEST(RobustToolPose, ThreeMarkersCannotBeChecked) {
