@@ -61,6 +61,7 @@ std::vector<double> TruncationLateralSigmasMm(std::span<const DetectedMarker> de
   for (std::size_t k = 0; k < n; ++k) {
     if (marker_detection[k] < 0) continue;
     const auto i = static_cast<std::size_t>(marker_detection[k]);
+    if (!(detections[i].pixel_pitch_rad > 0.0) || detections[i].area_px <= 0) continue;  // no blob
     const Eigen::Vector3d& c = centres[i];
     double scaled = detections[i].area_px * c.squaredNorm();
     if (disc) {

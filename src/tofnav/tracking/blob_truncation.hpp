@@ -37,7 +37,8 @@ double TruncatedDiscCentroidShift(double visible_fraction);
 /// of its centre [mm]: the marker radius times TruncatedDiscCentroidShift of the blob's visible
 /// fraction, its area times range^2 (and, for flat discs, over the cosine of its incidence at
 /// `ahat_from_tool`) over the median of its plate's other matched blobs', plus the grace above.
-/// 0 for unmatched markers and where fewer than two siblings compare.
+/// 0 for unmatched markers, hand-made detections (no pixels) and where fewer than two siblings
+/// compare.
 std::vector<double> TruncationLateralSigmasMm(std::span<const DetectedMarker> detections,
                                               std::span<const int> marker_detection,
                                               const ToolGeometry& tool, const Points3d& centres,

@@ -79,7 +79,7 @@ class Fitter {
         TruncationLateralSigmasMm(detections_, marker_detection_, tool_, centres_, pose, options);
     bool any = false;
     for (std::size_t k = 0; k < in.size(); ++k) {
-      sigmas_[k].truncation_mm = Detection0(k) ? truncation_mm_[k] : 0.0;
+      sigmas_[k].truncation_mm = truncation_mm_[k];
       any = any || (in[k] && sigmas_[k].truncation_mm > 0.0);
     }
     return any;
@@ -144,9 +144,6 @@ class Fitter {
   }
   const Eigen::Vector3d& Centre(std::size_t k) const {
     return centres_[static_cast<std::size_t>(marker_detection_[k])];
-  }
-  bool Detection0(std::size_t k) const {
-    return marker_detection_[k] >= 0 && Detection(k).pixel_pitch_rad > 0.0;
   }
 
   std::span<const DetectedMarker> detections_;

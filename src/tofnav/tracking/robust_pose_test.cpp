@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -222,6 +223,58 @@ TEST(BlobTruncation, TheCentroidOfADiscCutByAChordMovesAsTheGeometrySays) {
     EXPECT_LT(shift, 1.0) << a;       // and it stays within the disc
     previous = shift;
   }
+}
+
+// Hand-made blobs of the reference tool at kTruth: `area_px` each, marker kMarker's `small_px`.
+struct Blobs {
+  std::vector<DetectedMarker> detections;
+  std::vector<int> index{0, 1, 2, 3};
+  Points3d centres;
+};
+Blobs MakeBlobs(int area_px, int small_px, double pitch_rad = 1.0 / 217.0) {
+  Blobs b;
+  for (std::size_t k = 0; k < 4; ++k) {
+    DetectedMarker d;
+    b.centres.push_back(kTruth * ReferenceTool().markers_in_tool[k]);
+    d.ray_in_ahat = b.centres.back().normalized();
+    d.pixel_pitch_rad = pitch_rad;
+    d.area_px = k == kMarker ? small_px : area_px;
+    b.detections.push_back(d);
+  }
+  return b;
+}
+std::vector<double> Sigmas(const Blobs& b) {
+  return TruncationLateralSigmasMm(b.detections, b.index, ReferenceTool(), b.centres, kTruth, {});
+}
+
+TEST(BlobTruncation, OnlyABlobSmallerThanTwoSiblingsBeyondItsGraceWeighsLess) {
+  // Half the siblings' area, unflagged: granted two sds (0.24). Areas compare at a common range
+  // (times range^2); the siblings' median is the middle one of three.
+  const Blobs blobs = MakeBlobs(20, 10);
+  const std::vector<double> half = Sigmas(blobs);
+  std::vector<double> siblings;
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (k != kMarker) siblings.push_back(blobs.centres[k].squaredNorm());
+  }
+  std::sort(siblings.begin(), siblings.end());
+  const double fraction = 0.5 * blobs.centres[kMarker].squaredNorm() / siblings[1];
+  const double radius_mm = 0.5 * ReferenceTool().marker_diameter_mm;
+  EXPECT_NEAR(half[kMarker], radius_mm * TruncatedDiscCentroidShift(fraction + 0.24), 1e-9);
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (k != kMarker) {
+      EXPECT_EQ(half[k], 0.0) << k;  // the others are as large as their siblings
+    }
+  }
+  // Flagged (something in front of it): one sd of grace only, so more weight taken away.
+  Blobs flagged = MakeBlobs(20, 10);
+  flagged.detections[kMarker].damage.occluded = true;
+  EXPECT_GT(Sigmas(flagged)[kMarker], half[kMarker]);
+  // Within the area's scatter, alone with one sibling, or without pixels: weighed as whole.
+  EXPECT_EQ(Sigmas(MakeBlobs(20, 19))[kMarker], 0.0);
+  Blobs pair = MakeBlobs(20, 10);
+  pair.index = {-1, -1, 2, 3};
+  EXPECT_EQ(Sigmas(pair)[kMarker], 0.0);
+  EXPECT_EQ(Sigmas(MakeBlobs(20, 10, 0.0))[kMarker], 0.0);
 }
 
 TEST(RobustToolPose, ThreeMarkersCannotBeChecked) {
