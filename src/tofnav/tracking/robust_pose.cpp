@@ -23,8 +23,6 @@ double Chi2Quantile(int k, double z) {
 struct Sigmas {
   double lateral_mm = 1.0;  // as a whole blob's
   double range_mm = 1.0;
-  double truncation_mm = 0.0;  // extra across the ray, in quadrature (blob_truncation.hpp)
-  double Lateral2() const { return lateral_mm * lateral_mm + truncation_mm * truncation_mm; }
 };
 
 class Fitter {
@@ -77,12 +75,16 @@ class Fitter {
                      const BlobTruncationOptions& options) {
     truncation_mm_ =
         TruncationLateralSigmasMm(detections_, marker_detection_, tool_, centres_, pose, options);
-    bool any = false;
     for (std::size_t k = 0; k < in.size(); ++k) {
-      sigmas_[k].truncation_mm = truncation_mm_[k];
-      any = any || (in[k] && sigmas_[k].truncation_mm > 0.0);
+      if (in[k] && truncation_mm_[k] > 0.0) return true;
     }
-    return any;
+    return false;
+  }
+
+  // Marker k's variance across its ray: a whole blob's plus its truncation's.
+  double Lateral2(std::size_t k) const {
+    const double extra = truncation_mm_.empty() ? 0.0 : truncation_mm_[k];
+    return sigmas_[k].lateral_mm * sigmas_[k].lateral_mm + extra * extra;
   }
 
   // Squared residual of marker k at `pose`, across and along its ray, in sigmas.
@@ -91,8 +93,8 @@ class Fitter {
     const Eigen::Vector3d ray = Detection(k).ray_in_ahat.normalized();
     const double along = ray.dot(e);
     const double across2 = (e - along * ray).squaredNorm();
-    const Sigmas& s = sigmas_[k];
-    return across2 / s.Lateral2() + along * along / (s.range_mm * s.range_mm);
+    const double range_mm = sigmas_[k].range_mm;
+    return across2 / Lateral2(k) + along * along / (range_mm * range_mm);
   }
 
   double Chi2(const std::vector<bool>& in, const Rigid3d& pose) const {
@@ -121,7 +123,7 @@ class Fitter {
       observations.push_back(
           {.ray_in_ahat = d.ray_in_ahat.norm() > 0.5 ? d.ray_in_ahat : Centre(k).normalized(),
            .range_mm = range_mm,
-           .lateral_sigma_mm = std::sqrt(sigmas_[k].Lateral2()),
+           .lateral_sigma_mm = std::sqrt(Lateral2(k)),
            .range_sigma_mm =
                d.pixel_pitch_rad > 0.0 ? pixel_sigma_mm / std::sqrt(pixels) : sigmas_[k].range_mm});
     }
