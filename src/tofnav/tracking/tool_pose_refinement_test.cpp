@@ -13,15 +13,21 @@
 namespace tofnav {
 namespace {
 
+// A small flat tool of four 10 mm discs (tape on a plate), spread 60-80 mm.
+ToolGeometry FlatDiscTool(const char* name) {
+  ToolGeometry tool;
+  tool.name = name;
+  tool.marker_type = MarkerType::kDisc;
+  tool.marker_diameter_mm = 10.0;
+  tool.markers_in_tool = {{-35, -5, 0}, {30, 0, 0}, {5, -30, 0}, {-5, 42, 0}};
+  return tool;
+}
+
 TEST(EstimateToolPoses, RefinementWeighsRaysOverRangesAndKeepsFreMeaningful) {
   // A small flat tool tilted 0.5 rad at 500 mm whose marker ranges alone carry +-1 mm errors.
   constexpr double kPixelPitchRad = 1.0 / 254.0;  // AHAT focal length
   constexpr double kFreTolMm = 1e-9;              // FRE is the RMS of the residuals
-  ToolGeometry tool;
-  tool.name = "flat";
-  tool.marker_type = MarkerType::kDisc;
-  tool.marker_diameter_mm = 10.0;
-  tool.markers_in_tool = {{-35, -5, 0}, {30, 0, 0}, {5, -30, 0}, {-5, 42, 0}};
+  const ToolGeometry tool = FlatDiscTool("flat");
   const ToolGeometry tools[] = {tool};
   const Rigid3d truth = testing::FacingToolPose({20.0, -10.0, 500.0}, 0.5, 0.3);
   const double range_error_mm[] = {1.0, -1.0, -1.0, 1.0};
@@ -59,11 +65,7 @@ TEST(EstimateToolPoses, DiscRangesLongByTheirEntranceAngleAreCorrectedFromThePos
   constexpr double kGainMmPerRad = 2.1;
   constexpr double kPixelPitchRad = 1.0 / 254.0;
   constexpr double kCorrectedTolMm = 0.05;  // one refit: beta is off by the first pose's tilt
-  ToolGeometry tool;
-  tool.name = "tape";
-  tool.marker_type = MarkerType::kDisc;
-  tool.marker_diameter_mm = 10.0;
-  tool.markers_in_tool = {{-35, -5, 0}, {30, 0, 0}, {5, -30, 0}, {-5, 42, 0}};
+  const ToolGeometry tool = FlatDiscTool("tape");
   const ToolGeometry tools[] = {tool};
   const Rigid3d truth = testing::FacingToolPose({20.0, -10.0, 450.0}, 0.7, 0.3);
   const Eigen::Vector3d normal = truth.rotation * Eigen::Vector3d::UnitZ();
