@@ -110,14 +110,20 @@ grep -q "^tofnav evaluate suite: --stages: unknown stage 'trackign' (stages: mar
   cat "$scratch/err" >&2
   exit 1
 }
-# A bad suite file: the file and the JSON path of the bad key.
-printf '{"format": "tofnav-suite", "cases": [{"name": "a", "tools": "wands"}]}' >"$scratch/bad.json"
-if "$tofnav" evaluate suite "$scratch/bad.json" --out "$scratch/bad" 2>"$scratch/err"; then
-  echo "a bad suite file was accepted" >&2
-  exit 1
-fi
-grep -q 'bad.json.*\$.cases\[0\].tools: unknown value .wands.' "$scratch/err" || {
-  cat "$scratch/err" >&2
-  exit 1
+# A bad suite file is refused with the file and the JSON path of the bad key.
+refused() {  # refused NAME CASE_JSON PATTERN
+  printf '{"format": "tofnav-suite", "cases": [%s]}' "$2" >"$scratch/$1.json"
+  if "$tofnav" evaluate suite "$scratch/$1.json" --out "$scratch/bad" 2>"$scratch/err"; then
+    echo "$1.json was accepted" >&2
+    exit 1
+  fi
+  grep -q "$1.json.*$3" "$scratch/err" || {
+    cat "$scratch/err" >&2
+    exit 1
+  }
 }
+refused bad '{"name": "a", "tools": "wands"}' '\$.cases\[0\].tools: unknown value .wands.'
+# The multipath quadrature of a case: a stride outside the simulator's range.
+refused bad_stride '{"name": "a", "multipath_stride_px": 200}' \
+  '\$.cases\[0\].multipath_stride_px: must lie in \[1, 128\] px'
 echo "suite_cli_test: ok"

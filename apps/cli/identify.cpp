@@ -106,6 +106,10 @@ int RunIdentify(int argc, char** argv) {
                  "weight of the head samples' distances to the skin in Err_C (with "
                  "--reference-tool), relative to the markers'")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--joint-smoothness-weight", options.joint_smoothness_weight,
+                 "weight of Err_S in Eq. (7) when Err_C runs through --reference-tool (1: the "
+                 "paper's; docs/correction.md 2.11)")
+      ->check(CLI::NonNegativeNumber);
   app.add_option("--max-frames", max_frames, "frames used, evenly spread")
       ->check(CLI::PositiveNumber);
   app.add_option("--placement-subsets", placement_subsets,

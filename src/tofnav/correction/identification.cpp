@@ -132,6 +132,8 @@ Evaluation Evaluate(std::span<const IdentificationFrame> frames, const Correctne
   e.correct.resize(plan.frames.size());
   e.report.resize(frames.size());
   const double h = options.huber_scale_mm;
+  // Err_S beside the joint Err_C: weighed by what its geometry can tell (docs/correction.md 2.11).
+  const double smooth_weight = plan.image_from_tool ? options.joint_smoothness_weight : 1.0;
   ParallelFor(0, static_cast<std::int64_t>(frames.size()), [&](std::int64_t fi) {
     const auto f = static_cast<std::size_t>(fi);
     const IdentificationFrame& frame = frames[f];
@@ -148,7 +150,7 @@ Evaluation Evaluate(std::span<const IdentificationFrame> frames, const Correctne
       for (std::size_t i = 0; i < patch.marker_points.size(); ++i) {
         // A singular fit keeps the residual count: count it as one scale away.
         const double di = i < d.size() ? d[i] : h;
-        e.smooth[f].push_back(Robust(di, h) / std::sqrt(n * k));
+        e.smooth[f].push_back(smooth_weight * Robust(di, h) / std::sqrt(n * k));
       }
       const double rms = Rms(d);
       sum_sq += rms * rms;
@@ -280,11 +282,11 @@ void IdentificationOptions::Check() const {
       max_correctness_frames < 0 || max_joint_correctness_frames < 0 ||
       difference_steps.size() != 4 || !(marker_outlier_spreads > 0.0) ||
       !(min_marker_outlier_mm >= 0.0) || !(head_surface_weight >= 0.0) ||
-      !(joint_frame_max_median_mm > 0.0)) {
+      !(joint_smoothness_weight >= 0.0) || !(joint_frame_max_median_mm > 0.0)) {
     throw std::invalid_argument(
         "IdentificationOptions: need huber_scale_mm >= 0, max_correctness_frames >= 0, four "
         "difference_steps, marker_outlier_spreads > 0, min_marker_outlier_mm >= 0, "
-        "head_surface_weight >= 0 and joint_frame_max_median_mm > 0");
+        "head_surface_weight >= 0, joint_smoothness_weight >= 0 and joint_frame_max_median_mm > 0");
   }
   for (double s : difference_steps) {
     if (!(s > 0.0)) throw std::invalid_argument("IdentificationOptions: difference_steps > 0");

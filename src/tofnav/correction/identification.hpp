@@ -55,6 +55,12 @@ struct IdentificationOptions {
   /// (docs/correction.md 2; 1 since the intensity form, 2.1). 0 keeps the markers only.
   int min_tool_pose_frames = 3;
   double head_surface_weight = 1.0;
+  /// Beyond the paper: Err_S's weight in Eq. (7) when Err_C runs through the reference tool. A
+  /// sticker's Eq. (6) distance carries the skin's shape under it against the cubic through its
+  /// 30 mm ring (-1.0 to +2.2 mm on the simulator's heads, from their true ranges), which Eq. (5)
+  /// does not: it measures the same stickers against the CT's own skin (docs/correction.md 2.11).
+  /// 1 weighs them as the paper does.
+  double joint_smoothness_weight = 0.3;
   /// Frames (evenly chosen among those with a tool pose) in the joint Err_C: one ICP for them
   /// all per evaluation, so more frames than max_correctness_frames cost little, and they
   /// average the tracking noise of each frame's pose.

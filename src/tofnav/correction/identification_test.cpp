@@ -194,6 +194,23 @@ TEST(CorrectnessDistances, ZeroForTheTrueModelAndTheBiasForNone) {
   EXPECT_GT(Rms(bad.distances), 1.0);
 }
 
+// The weight is Err_S's beside the joint Err_C only (docs/correction.md 2.11): without a skin, Eq.
+// (7) is the paper's sum whatever it is; a negative weight is refused.
+TEST(IdentifyDepthModel, TheJointSmoothnessWeightLeavesASmoothnessOnlyCostAlone) {
+  const std::vector<IdentificationFrame> frames = SphereFrames(TrueModel());
+  DepthErrorModel off = TrueModel();
+  off.c1_mm += 0.5;
+  IdentificationOptions paper;
+  paper.joint_smoothness_weight = 1.0;
+  const IdentificationOptions tofnav;
+  const double cost = EvaluateIdentificationCost(frames, nullptr, off, paper).total;
+  EXPECT_GT(cost, 0.0);
+  EXPECT_DOUBLE_EQ(EvaluateIdentificationCost(frames, nullptr, off, tofnav).total, cost);
+  IdentificationOptions negative;
+  negative.joint_smoothness_weight = -0.1;
+  EXPECT_THROW(EvaluateIdentificationCost(frames, nullptr, off, negative), std::invalid_argument);
+}
+
 TEST(IdentifyDepthModel, RejectsFramesWithoutMarkers) {
   std::vector<IdentificationFrame> frames(2);
   EXPECT_THROW(IdentifyDepthModel(frames, nullptr, DepthErrorModel{}), std::invalid_argument);

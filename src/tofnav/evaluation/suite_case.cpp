@@ -143,6 +143,10 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
       s.camera.device = device;
       s.camera.device_folder = folder;
       s.render.multipath.gain = c.multipath_gain;
+      if (c.multipath_stride_px > 0) {
+        s.render.multipath.source_stride_px = c.multipath_stride_px;
+        s.render.multipath.receiver_stride_px = c.multipath_stride_px;
+      }
       if (c.noise_floor_exponent >= 0.0) {
         s.render.noise.depth_sigma_floor_exponent = c.noise_floor_exponent;
       }

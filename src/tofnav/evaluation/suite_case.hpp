@@ -29,6 +29,10 @@ struct SuiteCase {
   std::uint64_t seed = 1;
   std::string device = "synthetic";  // synthetic | perturbed:<n> | folder:<hl2ss calibration>
   double multipath_gain = sim::MultipathOptions{}.gain;  // the simulator's calibrated default
+  /// > 0 replaces the simulator's multipath quadrature, source and receiver blocks of this many
+  /// pixels (MultipathOptions::source_stride_px, receiver_stride_px; docs/simulator.md 6.9.1); 0:
+  /// the simulator's default, 16.
+  int multipath_stride_px = 0;
   /// >= 0 replaces the simulator's range noise floor exponent (NoiseOptions::
   /// depth_sigma_floor_exponent; its default 1.5 meets STTAR's marker rows, docs/simulator.md 10.1;
   /// 0 is the flat floor of the suites before session 29).

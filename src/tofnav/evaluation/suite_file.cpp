@@ -35,6 +35,7 @@ void ReadCase(JsonFields& in, SuiteCase& c) {
   in.Read("seed", c.seed);
   in.Read("device", c.device);
   in.Read("multipath_gain", c.multipath_gain);
+  in.Read("multipath_stride_px", c.multipath_stride_px);
   in.Read("noise_floor_exponent", c.noise_floor_exponent);
   sim::ScenarioVariation& v = c.variation;
   v.tools = ReadEnum(in, "tools", v.tools, kTools);
@@ -62,6 +63,9 @@ void CheckCase(const SuiteCase& c, const std::string& at, std::set<std::string>&
     Fail(at + ".head", "head_mirror and head_scale derive a head from a volume (ct:<path>)");
   }
   if (!(c.head_scale > 0.5 && c.head_scale < 2.0)) Fail(at + ".head_scale", "must lie in (0.5, 2)");
+  if (c.multipath_stride_px < 0 || c.multipath_stride_px > 128) {
+    Fail(at + ".multipath_stride_px", "must lie in [1, 128] px (0: the simulator's default)");
+  }
   if (!(c.noise_floor_exponent <= 4.0)) {
     Fail(at + ".noise_floor_exponent", "must be <= 4 (< 0: the simulator's default)");
   }

@@ -47,6 +47,7 @@ void UsePaperIdentification(IdentifyRecordingOptions& options) {
   fit.centre_references = false;  // C1 at theta = 0, as Eq. (3) writes it
   fit.foreground.enabled = false;
   fit.head_surface_weight = 0.0;
+  fit.joint_smoothness_weight = 1.0;  // Eq. (7): Err_S and Err_C as the paper weighs them
   fit.fit_cyclic_period_mm = 0.0;
 }
 

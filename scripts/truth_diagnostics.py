@@ -1,0 +1,206 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: BSD-3-Clause
+"""Where a suite run's depth correction goes wrong, measured against the simulator's truth
+(docs/correction.md 2.11). Each RUN is a suite case folder (DIR/CASE; its seed* folder holds
+session/, depth_model.json and frf.json), as `tofnav evaluate suite --out DIR` leaves it.
+
+  removal RUN TWIN      the multipath the removal faced and what it left, by incidence, against TWIN:
+                        the same case and seed rendered with "multipath_gain": 0 (a suite file)
+  oracle RUN            C1, C3, C4 of the pipeline's own correction fitted to the true ranges over
+                        the head, beside the identified ones; prints the model-file edit too
+  stickers RUN C1,C3,C4 Eq. (6) per forehead sticker under that model, measured and on true ranges
+
+Needs the Python bindings: PYTHONPATH=build/<dir>/python. Reads, never writes.
+"""
+import glob
+import json
+import sys
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+import tofnav
+
+
+def case_dir(run):
+    found = sorted(glob.glob(run + "/seed*"))
+    if not found:
+        sys.exit(f"{run}: no seed* folder (a suite case folder was expected)")
+    return found[0]
+
+
+def skin_vertices(path):
+    """Vertices (N, 3) and normals (N, 3) of a binary little-endian PLY with x y z nx ny nz."""
+    data = open(path, "rb").read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().splitlines()
+    count = int(next(l for l in header if l.startswith("element vertex")).split()[2])
+    table = np.frombuffer(data[end:end + count * 24], dtype="<f4").reshape(count, 6)
+    return table[:, :3].astype(float), table[:, 3:].astype(float)
+
+
+class Run:
+    def __init__(self, run):
+        self.dir = case_dir(run)
+        s = self.dir + "/session"
+        self.recording = tofnav.open_recording(s + "/rm_depth_ahat.bin")
+        self.camera = tofnav.AhatCamera(tofnav.read_hl2ss_calibration(s + "/calibration/rm_depth_ahat"))
+        self.truth = json.load(open(s + "/truth.json"))
+        self.true_range = np.memmap(s + "/truth_range_f32.bin", dtype="<f4", mode="r").reshape(-1, 512, 512)
+        self.skin, _ = skin_vertices(s + "/skin_truth.ply")
+        self.tree = cKDTree(self.skin)
+        self.forehead_from_image = np.array(self.truth["forehead_markers_from_image"])
+
+    def model(self, coefficients=None, multipath=True):
+        m, frf = tofnav.read_depth_model(self.dir + "/depth_model.json")
+        if coefficients is not None:
+            m.c1_mm, m.c3_mm, m.c4_mm = coefficients
+        if not multipath:
+            options = m.multipath
+            options.enabled = False
+            m.multipath = options
+        return m, frf
+
+    def correct(self, frame, model, frf):
+        options = tofnav.CorrectRangeOptions()
+        options.marker_model = frf
+        return tofnav.correct_frame(frame, self.camera, model, options)
+
+    def head_mask(self, i, valid):
+        """Pixels whose true point lies within 1.5 mm of the true skin."""
+        t = np.ascontiguousarray(self.true_range[i])
+        points = np.asarray(self.camera.points_from_range(t))
+        ahat_from_forehead = np.array(self.truth["frames"][i]["ahat_from_forehead_markers"])
+        image_from_ahat = np.linalg.inv(ahat_from_forehead @ self.forehead_from_image)
+        ok = valid & (t > 0)
+        q = points[ok] @ image_from_ahat[:3, :3].T + image_from_ahat[:3, 3]
+        distance, _ = self.tree.query(q, distance_upper_bound=3.0)
+        head = np.zeros_like(ok)
+        head[ok] = distance < 1.5
+        return head
+
+    def frames(self, count):
+        return np.linspace(0, len(self.recording) - 1, count).astype(int)
+
+
+def removal(run_path, twin_path):
+    run, twin = Run(run_path), Run(twin_path)
+    zero = (0.0, 0.0, 0.0)
+    with_removal, frf = run.model(zero)
+    without, _ = run.model(zero, multipath=False)
+    left, incidence = [], []
+    for i in run.frames(20):
+        measured = run.recording.read_frame(int(i))
+        a = run.correct(measured, with_removal, frf)
+        removed = np.asarray(a["range_mm"], float)
+        raw = np.asarray(run.correct(measured, without, frf)["range_mm"], float)
+        clean = np.asarray(twin.correct(twin.recording.read_frame(int(i)), without, frf)["range_mm"], float)
+        theta = np.asarray(a["incidence_rad"], float)
+        head = run.head_mask(i, (removed > 0) & (raw > 0) & (clean > 0) & np.isfinite(theta))
+        left.append((removed - clean)[head])
+        incidence.append(np.degrees(theta[head]))
+    left, incidence = np.concatenate(left), np.concatenate(incidence)
+    print(f"left by the removal (+ = range long), median {np.median(left):+.2f} mm")
+    for lo in range(0, 75, 15):
+        k = (incidence >= lo) & (incidence < lo + 15)
+        if k.any():
+            print(f"  {lo:2d}-{lo + 15:2d} deg: {np.median(left[k]):+.2f} mm ({k.sum()} px)")
+
+
+def oracle(run_path):
+    run = Run(run_path)
+    basis = {c: run.model(c) for c in [(0, 0, 0), (0, 1, 0), (0, 0, 1)]}
+    r0, b3, b4, cos = [], [], [], []
+    for i in run.frames(30):
+        frame = run.recording.read_frame(int(i))
+        out = {c: run.correct(frame, *mf) for c, mf in basis.items()}
+        c0, c3, c4 = (np.asarray(out[c]["range_mm"], float) for c in [(0, 0, 0), (0, 1, 0), (0, 0, 1)])
+        theta = np.asarray(out[(0, 0, 0)]["incidence_rad"], float)
+        head = run.head_mask(i, (c0 > 0) & (c3 > 0) & (c4 > 0) & np.isfinite(theta))
+        t = run.true_range[i][head]
+        r0.append(c0[head] - t)
+        b3.append((c0 - c3)[head])
+        b4.append((c0 - c4)[head])
+        cos.append(np.cos(theta[head]))
+    r0, b3, b4, cos = map(np.concatenate, (r0, b3, b4, cos))
+    x = np.stack([np.ones_like(r0), b3, b4], 1)
+    weight = cos**2  # the residual as a distance along the normal
+    for _ in range(6):  # Huber 1 mm by reweighting
+        root = np.sqrt(weight)
+        coefficients = np.linalg.lstsq(x * root[:, None], r0 * root, rcond=None)[0]
+        normal = (r0 - x @ coefficients) * cos
+        weight = cos**2 * np.where(np.abs(normal) < 1.0, 1.0, 1.0 / np.abs(normal))
+    identified, _ = run.model()
+    fitted = np.array([identified.c1_mm, identified.c3_mm, identified.c4_mm])
+    identified_normal = (r0 - x @ fitted) * cos
+    print("oracle     C1 %.3f C3 %+.3f C4 %.3f: normal residual median %+.3f mm" % (*coefficients, np.median(normal)))
+    print("identified C1 %.3f C3 %+.3f C4 %.3f: normal residual median %+.3f mm" % (*fitted, np.median(identified_normal)))
+    print("model file edit: c1_mm %.4f c3_mm %.4f c4_mm %.4f" % tuple(coefficients))
+
+
+def eq6_distance(marker_points, neighbours):
+    """Median signed distance (+ towards the camera) of marker points to the cubic through the neighbours."""
+    centre = neighbours.mean(0)
+    axes = np.linalg.svd(neighbours - centre, full_matrices=False)[2]
+
+    def terms(x, y):
+        return np.stack([np.ones_like(x), x, y, x * x, x * y, y * y, x**3, x * x * y, x * y * y, y**3], 1)
+
+    local = (neighbours - centre) @ axes.T
+    cubic = np.linalg.lstsq(terms(local[:, 0], local[:, 1]), local[:, 2], rcond=None)[0]
+    m = (marker_points - centre) @ axes.T
+    d = m[:, 2] - terms(m[:, 0], m[:, 1]) @ cubic
+    return np.median(-d if np.dot(axes[2], -centre) < 0 else d), axes[2]
+
+
+def stickers(run_path, coefficients):
+    run = Run(run_path)
+    model, frf = run.model(coefficients)
+    gain = frf.entrance_gain_mm_per_rad
+    centres = np.array([m["centre_in_tool"] for m in run.truth["tools"]["forehead_markers"]["markers"]])
+    rows = {k: [] for k in range(len(centres))}
+    for i in run.frames(40):
+        out = run.correct(run.recording.read_frame(int(i)), model, frf)
+        r = np.asarray(out["range_mm"], np.float32)
+        t = np.ascontiguousarray(run.true_range[i])
+        p, pt = np.asarray(run.camera.points_from_range(r)), np.asarray(run.camera.points_from_range(t))
+        pose = np.array(run.truth["frames"][i]["ahat_from_forehead_markers"])
+        where = centres @ pose[:3, :3].T + pose[:3, 3]
+        for marker in out["markers"]:
+            gap = np.linalg.norm(where - np.asarray(marker["centroid_in_ahat"]), axis=1)
+            k = int(gap.argmin())
+            px = np.asarray(marker["pixels"])
+            px = px[(r[px[:, 1], px[:, 0]] > 0) & (t[px[:, 1], px[:, 0]] > 0)]
+            ring = np.linalg.norm(pt - where[k], axis=2)
+            nb = (out["labels"] == tofnav.PIXEL_HEAD) & (r > 0) & (t > 0) & (ring < 30) & (ring > 8)
+            if gap[k] > 6 or len(px) < 5 or nb.sum() < 30:
+                continue
+            # f_rf's entrance-angle term on tape, as the identification applies it
+            points = p[px[:, 1], px[:, 0]]
+            ranges = np.linalg.norm(points, axis=1)
+            rays = points / ranges[:, None]
+            _, normal = eq6_distance(points, p[nb])
+            shortened = rays * (ranges - gain * np.arccos(np.clip(np.abs(rays @ normal), 0, 1)))[:, None]
+            measured, _ = eq6_distance(shortened, p[nb])
+            true, _ = eq6_distance(pt[px[:, 1], px[:, 0]], pt[nb])
+            rows[k].append((measured, true, np.median((r - t)[nb])))
+    for k, values in rows.items():
+        if values:
+            v = np.median(np.array(values), 0)
+            print(f"sticker {k}: {len(values)} frames, Eq. (6) measured {v[0]:+.2f} mm, on true ranges {v[1]:+.2f} mm;"
+                  f" neighbours corrected - true {v[2]:+.2f} mm")
+
+
+def main(argv):
+    if len(argv) >= 3 and argv[0] == "removal":
+        removal(argv[1], argv[2])
+    elif len(argv) >= 2 and argv[0] == "oracle":
+        oracle(argv[1])
+    elif len(argv) >= 3 and argv[0] == "stickers":
+        stickers(argv[1], [float(x) for x in argv[2].split(",")])
+    else:
+        sys.exit(__doc__)
+
+
+if __name__ == "__main__":
+    main(sys.argv[1:])
