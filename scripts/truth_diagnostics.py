@@ -29,26 +29,16 @@ def case_dir(run):
     return found[0]
 
 
-def skin_vertices(path):
-    """Vertices (N, 3) and normals (N, 3) of a binary little-endian PLY with x y z nx ny nz."""
-    data = open(path, "rb").read()
-    end = data.index(b"end_header\n") + len(b"end_header\n")
-    header = data[:end].decode().splitlines()
-    count = int(next(l for l in header if l.startswith("element vertex")).split()[2])
-    table = np.frombuffer(data[end:end + count * 24], dtype="<f4").reshape(count, 6)
-    return table[:, :3].astype(float), table[:, 3:].astype(float)
-
-
 class Run:
-    def __init__(self, run):
+    def __init__(self, run, with_skin=True):
         self.dir = case_dir(run)
         s = self.dir + "/session"
         self.recording = tofnav.open_recording(s + "/rm_depth_ahat.bin")
         self.camera = tofnav.AhatCamera(tofnav.read_hl2ss_calibration(s + "/calibration/rm_depth_ahat"))
         self.truth = json.load(open(s + "/truth.json"))
         self.true_range = np.memmap(s + "/truth_range_f32.bin", dtype="<f4", mode="r").reshape(-1, 512, 512)
-        self.skin, _ = skin_vertices(s + "/skin_truth.ply")
-        self.tree = cKDTree(self.skin)
+        if with_skin:  # a twin lends its recording only
+            self.tree = cKDTree(np.asarray(tofnav.read_mesh(s + "/skin_truth.ply").vertices))
         self.forehead_from_image = np.array(self.truth["forehead_markers_from_image"])
 
     def model(self, coefficients=None, multipath=True):
@@ -84,19 +74,17 @@ class Run:
 
 
 def removal(run_path, twin_path):
-    run, twin = Run(run_path), Run(twin_path)
+    run, twin = Run(run_path), Run(twin_path, with_skin=False)
     zero = (0.0, 0.0, 0.0)
     with_removal, frf = run.model(zero)
     without, _ = run.model(zero, multipath=False)
     left, incidence = [], []
     for i in run.frames(20):
-        measured = run.recording.read_frame(int(i))
-        a = run.correct(measured, with_removal, frf)
+        a = run.correct(run.recording.read_frame(int(i)), with_removal, frf)
         removed = np.asarray(a["range_mm"], float)
-        raw = np.asarray(run.correct(measured, without, frf)["range_mm"], float)
         clean = np.asarray(twin.correct(twin.recording.read_frame(int(i)), without, frf)["range_mm"], float)
         theta = np.asarray(a["incidence_rad"], float)
-        head = run.head_mask(i, (removed > 0) & (raw > 0) & (clean > 0) & np.isfinite(theta))
+        head = run.head_mask(i, (removed > 0) & (clean > 0) & np.isfinite(theta))
         left.append((removed - clean)[head])
         incidence.append(np.degrees(theta[head]))
     left, incidence = np.concatenate(left), np.concatenate(incidence)
