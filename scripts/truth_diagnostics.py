@@ -6,6 +6,8 @@ session/, depth_model.json and frf.json), as `tofnav evaluate suite --out DIR` l
 
   removal RUN TWIN      the multipath the removal faced and what it left, by incidence, against TWIN:
                         the same case and seed rendered with "multipath_gain": 0 (a suite file)
+  share RUN TWIN        the shift the removal takes out against the one the multipath put in, by
+                        incidence (trimmed means: a ZDEPTH range is whole millimetres)
   oracle RUN            C1, C3, C4 of the pipeline's own correction fitted to the true ranges over
                         the head, beside the identified ones; prints the model-file edit too
   stickers RUN C1,C3,C4 Eq. (6) per forehead sticker under that model, measured and on true ranges
@@ -95,6 +97,39 @@ def removal(run_path, twin_path):
             print(f"  {lo:2d}-{lo + 15:2d} deg: {np.median(left[k]):+.2f} mm ({k.sum()} px)")
 
 
+def trimmed_mean(x):
+    """Mean of the 5th-95th percentile: medians of whole-millimetre differences step by 1 mm."""
+    lo, hi = np.percentile(x, [5, 95])
+    return x[(x >= lo) & (x <= hi)].mean()
+
+
+def share(run_path, twin_path):
+    run, twin = Run(run_path), Run(twin_path, with_skin=False)
+    zero = (0.0, 0.0, 0.0)
+    with_removal, frf = run.model(zero)
+    without, _ = run.model(zero, multipath=False)
+    made, taken, incidence = [], [], []
+    for i in run.frames(12):
+        frame = run.recording.read_frame(int(i))
+        a = run.correct(frame, with_removal, frf)
+        removed = np.asarray(a["range_mm"], float)
+        raw = np.asarray(run.correct(frame, without, frf)["range_mm"], float)
+        clean = np.asarray(twin.correct(twin.recording.read_frame(int(i)), without, frf)["range_mm"], float)
+        theta = np.asarray(a["incidence_rad"], float)
+        head = run.head_mask(i, (removed > 0) & (clean > 0) & (raw > 0) & np.isfinite(theta))
+        made.append((raw - clean)[head])
+        taken.append((raw - removed)[head])
+        incidence.append(np.degrees(theta[head]))
+    made, taken, incidence = map(np.concatenate, (made, taken, incidence))
+    print(f"multipath {trimmed_mean(made):.2f} mm, removed {trimmed_mean(taken):.2f} mm"
+          f" ({trimmed_mean(taken) / trimmed_mean(made):.2f} of it)")
+    for lo in range(0, 75, 15):
+        k = (incidence >= lo) & (incidence < lo + 15)
+        if k.any():
+            m, t = trimmed_mean(made[k]), trimmed_mean(taken[k])
+            print(f"  {lo:2d}-{lo + 15:2d} deg: {m:.2f} -> removed {t:.2f} ({t / m:.2f})")
+
+
 def oracle(run_path):
     run = Run(run_path)
     basis = {c: run.model(c) for c in [(0, 0, 0), (0, 1, 0), (0, 0, 1)]}
@@ -182,6 +217,8 @@ def stickers(run_path, coefficients):
 def main(argv):
     if len(argv) >= 3 and argv[0] == "removal":
         removal(argv[1], argv[2])
+    elif len(argv) >= 3 and argv[0] == "share":
+        share(argv[1], argv[2])
     elif len(argv) >= 2 and argv[0] == "oracle":
         oracle(argv[1])
     elif len(argv) >= 3 and argv[0] == "stickers":

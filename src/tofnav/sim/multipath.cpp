@@ -24,6 +24,33 @@ struct Patch {
   double min_r2 = 0.0;                               // patch area: r^2 below it is clamped
 };
 
+// The block's normal, facing the camera: the mean of the centre-ray normals of the stride x stride
+// block's pixels that hit the centre pixel's object. A patch emits and receives as the sum of its
+// pixels' facets, sum_k Omega_k rho (n_k . u) ~ Omega rho (mean n . u) wherever its facets face u;
+// and the facing test, which stands in for the visibility that the screen-space model does not
+// trace, must see the surface's shape at the scale of the exchange: on a convex body every chord
+// runs inside it, yet one facet of a rough skin tilted 30 deg would pass the test across it.
+Eigen::Vector3d BlockNormal(const MultipathInputs& in, const PixelRect& window, int u_centre,
+                            int v_centre, int stride) {
+  const int object = in.object(u_centre, v_centre);
+  const int u0 = std::max(u_centre - stride / 2, window.u0),
+            v0 = std::max(v_centre - stride / 2, window.v0);
+  const int u1 = std::min(u_centre - stride / 2 + stride, window.u0 + window.width),
+            v1 = std::min(v_centre - stride / 2 + stride, window.v0 + window.height);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int v = v0; v < v1; ++v) {
+    for (int u = u0; u < u1; ++u) {
+      if (in.range_mm(u, v) <= 0.0f || in.object(u, v) != object) continue;
+      Eigen::Vector3d n = in.normal_in_ahat(u, v).cast<double>();
+      if (n.dot(in.ray_in_ahat(u, v)) > 0.0) n = -n;
+      sum += n;
+    }
+  }
+  if (sum.squaredNorm() > 1e-12) return sum.normalized();
+  Eigen::Vector3d n = in.normal_in_ahat(u_centre, v_centre).cast<double>();
+  return n.dot(in.ray_in_ahat(u_centre, v_centre)) > 0.0 ? Eigen::Vector3d(-n) : n;
+}
+
 // The centre pixel of each stride x stride block of the window that hits a surface.
 std::vector<Patch> SamplePatches(const Scene& scene, const PixelRect& window,
                                  const MultipathInputs& in, int stride) {
@@ -34,8 +61,7 @@ std::vector<Patch> SamplePatches(const Scene& scene, const PixelRect& window,
       const int m = in.material(u, v);
       if (d <= 0.0 || omega <= 0.0 || m < 0) continue;
       const Eigen::Vector3d ray = in.ray_in_ahat(u, v);
-      Eigen::Vector3d n = in.normal_in_ahat(u, v).cast<double>();
-      if (n.dot(ray) > 0.0) n = -n;
+      const Eigen::Vector3d n = BlockNormal(in, window, u, v, stride);
       const double cos_theta = std::max(-n.dot(ray), 1e-3);
       const double block_omega = omega * stride * stride;
       const double albedo = scene.materials[static_cast<std::size_t>(m)].albedo;
@@ -95,8 +121,7 @@ void AddMultipath(const MultipathOptions& options, const Scene& scene, const Pix
       const double d = in.range_mm(u, v);
       if (d <= 0.0 || in.material(u, v) < 0) continue;
       const Eigen::Vector3d ray = in.ray_in_ahat(u, v);
-      Eigen::Vector3d n = in.normal_in_ahat(u, v).cast<double>();
-      if (n.dot(ray) > 0.0) n = -n;
+      const Eigen::Vector3d n = BlockNormal(in, window, u, v, stride);
       irradiance(i, j) = IndirectIrradiance({d * ray, n, d, 0.0, 0.0}, patches, k);
       valid(i, j) = 1.0;
     }

@@ -15,7 +15,10 @@ namespace tofnav::sim {
 /// (d_j + |x_i - x_j| + d_i) / 2, amplitude by the form factor times rho_j times `gain`. Patches
 /// and receivers are sampled on coarse pixel grids (visibility between them is not tested: the
 /// screen-space approximation of Fuchs 2010); the receivers' phasor ratio is interpolated to every
-/// pixel. gain 0 switches it off.
+/// pixel. A patch faces the way its block's surface does on average (the mean normal of the
+/// block's pixels on the centre pixel's object), not the way one pixel's facet does: the facing
+/// test stands in for visibility, and a rough convex surface's facets must not lend each other
+/// light through the body (docs/simulator.md 6.9.1). gain 0 switches it off.
 struct MultipathOptions {
   /// Scale of the form factor's indirect light; 0 switches it off. 0.7 puts the Table I phantoms'
   /// IQRs before correction within the published ones (docs/simulator.md 10). Dimensionless
@@ -30,6 +33,7 @@ struct MultipathInputs {
   const Image<float>& range_mm;                  // first-hit range, 0 = none
   const Image<Eigen::Vector3f>& normal_in_ahat;  // first-hit normal
   const Image<std::int16_t>& material;           // Scene::materials index, -1 none
+  const Image<std::int16_t>& object;             // Scene::objects index, -1 none
   const Image<Eigen::Vector3d>& ray_in_ahat;     // unit centre ray
   const Image<double>& solid_angle_sr;           // of the pixel, 0 where unknown
   const Image<double>& diffuse_share;            // Lambertian part of the pixel's direct AB

@@ -146,16 +146,31 @@ TEST(Multipath, AConcaveCornersShiftConvergesAsTheBlocksShrink) {
 
 TEST(Multipath, OnARoughSurfaceTheBlocksConvergeToThePerPixelExchange) {
   // Bumps of 0.6 mm every 6 mm (2.6 px at 500 mm) tilt the pixels' normals by up to 32 deg, as
-  // the suite's rough MR skin does (docs/correction.md 7.2). One centre pixel's normal stands
-  // for a block's; at 1 px the exchange is per pixel (every pixel an emitter and a receiver with
-  // its own normal), the quadrature's limit.
+  // the suite's rough MR skin does (docs/correction.md 7.2). A block faces the way its pixels'
+  // normals do on average; at 1 px the exchange is per pixel (every pixel an emitter and a
+  // receiver with its own normal), the quadrature's limit. On this concave corner every facet
+  // sees the other wall, so the mean normal and the facets agree on what is exchanged.
   constexpr double kConvergedFraction = 0.02;  // 2 px against 1 px
-  constexpr double kCoarseFraction = 0.12;     // 16 px against 1 px (measured 8 %)
+  // 16 px against 1 px: measured 1.6 % (7.04 against 6.92 mm); one centre pixel's normal per
+  // block, before session 50: 8 %.
+  constexpr double kCoarseFraction = 0.05;
   const Scene scene = CornerScene(true, 0.6);
   const std::vector<double> shift_mm = LeftWallShiftsMm(scene, {16, 8, 4, 2, 1});
   const double reference = shift_mm.back();
   EXPECT_LT(std::abs(shift_mm[3] - reference), kConvergedFraction * reference);
   EXPECT_LT(std::abs(shift_mm[0] - reference), kCoarseFraction * reference);
+}
+
+TEST(Multipath, ARoughConvexCornerExchangesAlmostNoLight) {
+  // Its walls cannot see each other (every chord runs behind them) however their 0.6 mm bumps
+  // tilt single pixels: the blocks' facing test, which stands in for visibility, reads the
+  // surface's mean normal. One centre pixel's normal per block read 0.48 mm at 16 px and 0.88
+  // at 8 px here (session 50), 0.001 and 0.003 with the block's mean normal.
+  constexpr double kDarkMm = 0.05;
+  const Scene scene = CornerScene(false, 0.6);
+  const std::vector<double> shift_mm = LeftWallShiftsMm(scene, {16, 8});
+  EXPECT_LT(shift_mm[0], kDarkMm);
+  EXPECT_LT(shift_mm[1], kDarkMm);
 }
 
 TEST(Multipath, AConvexCornerExchangesNoLight) {
