@@ -24,6 +24,12 @@ struct Patch {
   double min_r2 = 0.0;                               // patch area: r^2 below it is clamped
 };
 
+// Pixel (u, v)'s centre-ray normal, turned to face the camera.
+Eigen::Vector3d FacingNormal(const MultipathInputs& in, int u, int v) {
+  const Eigen::Vector3d n = in.normal_in_ahat(u, v).cast<double>();
+  return n.dot(in.ray_in_ahat(u, v)) > 0.0 ? Eigen::Vector3d(-n) : n;
+}
+
 // The block's normal, facing the camera: the mean of the centre-ray normals of the stride x stride
 // block's pixels that hit the centre pixel's object. A patch emits and receives as the sum of its
 // pixels' facets, sum_k Omega_k rho (n_k . u) ~ Omega rho (mean n . u) wherever its facets face u;
@@ -40,15 +46,11 @@ Eigen::Vector3d BlockNormal(const MultipathInputs& in, const PixelRect& window, 
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
   for (int v = v0; v < v1; ++v) {
     for (int u = u0; u < u1; ++u) {
-      if (in.range_mm(u, v) <= 0.0f || in.object(u, v) != object) continue;
-      Eigen::Vector3d n = in.normal_in_ahat(u, v).cast<double>();
-      if (n.dot(in.ray_in_ahat(u, v)) > 0.0) n = -n;
-      sum += n;
+      if (in.range_mm(u, v) > 0.0f && in.object(u, v) == object) sum += FacingNormal(in, u, v);
     }
   }
-  if (sum.squaredNorm() > 1e-12) return sum.normalized();
-  Eigen::Vector3d n = in.normal_in_ahat(u_centre, v_centre).cast<double>();
-  return n.dot(in.ray_in_ahat(u_centre, v_centre)) > 0.0 ? Eigen::Vector3d(-n) : n;
+  return sum.squaredNorm() > 1e-12 ? Eigen::Vector3d(sum.normalized())
+                                   : FacingNormal(in, u_centre, v_centre);
 }
 
 // The centre pixel of each stride x stride block of the window that hits a surface.
