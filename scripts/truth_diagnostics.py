@@ -10,7 +10,12 @@ session/, depth_model.json and frf.json), as `tofnav evaluate suite --out DIR` l
                         incidence (trimmed means: a ZDEPTH range is whole millimetres)
   oracle RUN            C1, C3, C4 of the pipeline's own correction fitted to the true ranges over
                         the head, beside the identified ones; prints the model-file edit too
-  stickers RUN C1,C3,C4 Eq. (6) per forehead sticker under that model, measured and on true ranges
+  stickers RUN C1,C3,C4 Eq. (6) per forehead sticker under that model, measured and on true ranges,
+                        and what the sticker's own points read (f_rf and its entrance term) - true
+  near RUN C1,C3,C4     the head's range error under that model by chessboard distance [px] to the
+                        nearest marker pixel (docs/correction.md 2.12)
+  region RUN C1,C3,C4   the head's normal error under that model by distance from the forehead
+                        stickers' centroid (0-30, 30-60, ... mm)
 
 Needs the Python bindings: PYTHONPATH=build/<dir>/python. Reads, never writes.
 """
@@ -206,12 +211,70 @@ def stickers(run_path, coefficients):
             shortened = rays * (ranges - gain * np.arccos(np.clip(np.abs(rays @ normal), 0, 1)))[:, None]
             measured, _ = eq6_distance(shortened, p[nb])
             true, _ = eq6_distance(pt[px[:, 1], px[:, 0]], pt[nb])
-            rows[k].append((measured, true, np.median((r - t)[nb])))
+            # the sticker's own read: f_rf, then its entrance term from the true skin's normal
+            _, true_normal = eq6_distance(pt[px[:, 1], px[:, 0]], pt[nb])
+            true_rays = pt[px[:, 1], px[:, 0]] / t[px[:, 1], px[:, 0]][:, None]
+            entrance = np.arccos(np.clip(np.abs(true_rays @ true_normal), 0, 1))
+            read = r[px[:, 1], px[:, 0]] - gain * entrance - t[px[:, 1], px[:, 0]]
+            rows[k].append((measured, true, np.median((r - t)[nb]), np.median(read), np.mean(read),
+                            np.degrees(np.median(entrance))))
     for k, values in rows.items():
         if values:
             v = np.median(np.array(values), 0)
             print(f"sticker {k}: {len(values)} frames, Eq. (6) measured {v[0]:+.2f} mm, on true ranges {v[1]:+.2f} mm;"
-                  f" neighbours corrected - true {v[2]:+.2f} mm")
+                  f" neighbours corrected - true {v[2]:+.2f} mm; the sticker reads {v[3]:+.2f} mm"
+                  f" (mean {v[4]:+.2f}) at {v[5]:.0f} deg of entrance")
+
+
+def near(run_path, coefficients):
+    from scipy import ndimage
+    run = Run(run_path)
+    model, frf = run.model(coefficients)
+    errors = {k: [] for k in range(21)}  # 20: 20 px and beyond
+    for i in run.frames(20):
+        out = run.correct(run.recording.read_frame(int(i)), model, frf)
+        r = np.asarray(out["range_mm"], float)
+        t = np.ascontiguousarray(run.true_range[i]).astype(float)
+        marker = np.zeros(r.shape, bool)
+        for m in out["markers"]:
+            px = np.asarray(m["pixels"])
+            marker[px[:, 1], px[:, 0]] = True
+        distance = ndimage.distance_transform_cdt(~marker, metric="chessboard")
+        head = run.head_mask(i, (r > 0) & (t > 0)) & (out["labels"] == tofnav.PIXEL_HEAD)
+        for k in errors:
+            chosen = head & (distance == k if k < 20 else distance >= 20)
+            if chosen.any():
+                errors[k].append((r - t)[chosen])
+    for k, values in errors.items():
+        if values:
+            v = np.concatenate(values)
+            print(f"{k:2d}{'+' if k == 20 else ' '} px: corrected - true {np.median(v):+.3f} mm ({len(v)} px)")
+
+
+def region(run_path, coefficients):
+    run = Run(run_path)
+    model, frf = run.model(coefficients)
+    centres = np.array([m["centre_in_tool"] for m in run.truth["tools"]["forehead_markers"]["markers"]])
+    image_from_forehead = np.linalg.inv(run.forehead_from_image)
+    centroid = (centres @ image_from_forehead[:3, :3].T + image_from_forehead[:3, 3]).mean(0)
+    errors, distances = [], []
+    for i in run.frames(20):
+        out = run.correct(run.recording.read_frame(int(i)), model, frf)
+        r = np.asarray(out["range_mm"], float)
+        theta = np.asarray(out["incidence_rad"], float)
+        t = np.ascontiguousarray(run.true_range[i])
+        head = run.head_mask(i, (r > 0) & np.isfinite(theta)) & (out["labels"] == tofnav.PIXEL_HEAD)
+        pose = np.array(run.truth["frames"][i]["ahat_from_forehead_markers"])
+        image_from_ahat = np.linalg.inv(pose @ run.forehead_from_image)
+        q = np.asarray(run.camera.points_from_range(t))[head] @ image_from_ahat[:3, :3].T + image_from_ahat[:3, 3]
+        errors.append(((r - t) * np.cos(theta))[head])
+        distances.append(np.linalg.norm(q - centroid, axis=1))
+    errors, distances = np.concatenate(errors), np.concatenate(distances)
+    print(f"head, normal error under the model: median {np.median(errors):+.2f} mm")
+    for lo in range(0, 150, 30):
+        k = (distances >= lo) & (distances < lo + 30)
+        if k.sum() > 100:
+            print(f"  {lo:3d}-{lo + 30:3d} mm from the stickers: {np.median(errors[k]):+.2f} mm ({100 * k.mean():.0f} %)")
 
 
 def main(argv):
@@ -221,8 +284,8 @@ def main(argv):
         share(argv[1], argv[2])
     elif len(argv) >= 2 and argv[0] == "oracle":
         oracle(argv[1])
-    elif len(argv) >= 3 and argv[0] == "stickers":
-        stickers(argv[1], [float(x) for x in argv[2].split(",")])
+    elif len(argv) >= 3 and argv[0] in ("stickers", "near", "region"):
+        {"stickers": stickers, "near": near, "region": region}[argv[0]](argv[1], [float(x) for x in argv[2].split(",")])
     else:
         sys.exit(__doc__)
 
