@@ -210,9 +210,8 @@ def stickers(run_path, coefficients):
             _, normal = eq6_distance(points, p[nb])
             shortened = rays * (ranges - gain * np.arccos(np.clip(np.abs(rays @ normal), 0, 1)))[:, None]
             measured, _ = eq6_distance(shortened, p[nb])
-            true, _ = eq6_distance(pt[px[:, 1], px[:, 0]], pt[nb])
-            # the sticker's own read: f_rf, then its entrance term from the true skin's normal
-            _, true_normal = eq6_distance(pt[px[:, 1], px[:, 0]], pt[nb])
+            # on true ranges; its normal gives the sticker's own read its entrance term
+            true, true_normal = eq6_distance(pt[px[:, 1], px[:, 0]], pt[nb])
             true_rays = pt[px[:, 1], px[:, 0]] / t[px[:, 1], px[:, 0]][:, None]
             entrance = np.arccos(np.clip(np.abs(true_rays @ true_normal), 0, 1))
             read = r[px[:, 1], px[:, 0]] - gain * entrance - t[px[:, 1], px[:, 0]]
