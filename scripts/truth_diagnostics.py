@@ -85,21 +85,33 @@ def removal(run_path, twin_path):
     zero = (0.0, 0.0, 0.0)
     with_removal, frf = run.model(zero)
     without, _ = run.model(zero, multipath=False)
-    left, incidence = [], []
+    from scipy import ndimage
+    left, incidence, to_marker = [], [], []
     for i in run.frames(20):
         a = run.correct(run.recording.read_frame(int(i)), with_removal, frf)
         removed = np.asarray(a["range_mm"], float)
         clean = np.asarray(twin.correct(twin.recording.read_frame(int(i)), without, frf)["range_mm"], float)
         theta = np.asarray(a["incidence_rad"], float)
         head = run.head_mask(i, (removed > 0) & (clean > 0) & np.isfinite(theta))
+        marker = np.zeros(removed.shape, bool)
+        for m in a["markers"]:
+            px = np.asarray(m["pixels"])
+            marker[px[:, 1], px[:, 0]] = True
         left.append((removed - clean)[head])
         incidence.append(np.degrees(theta[head]))
-    left, incidence = np.concatenate(left), np.concatenate(incidence)
-    print(f"left by the removal (+ = range long), median {np.median(left):+.2f} mm")
+        to_marker.append(ndimage.distance_transform_cdt(~marker, metric="chessboard")[head])
+    left, incidence, to_marker = map(np.concatenate, (left, incidence, to_marker))
+    print(f"left by the removal (+ = range long), median {np.median(left):+.2f} mm,"
+          f" trimmed mean {trimmed_mean(left):+.3f} mm")
     for lo in range(0, 75, 15):
         k = (incidence >= lo) & (incidence < lo + 15)
         if k.any():
             print(f"  {lo:2d}-{lo + 15:2d} deg: {np.median(left[k]):+.2f} mm ({k.sum()} px)")
+    for lo, hi in [(0, 10), (10, 20), (20, 30), (30, 10**6)]:
+        k = (to_marker >= lo) & (to_marker < hi)
+        if k.any():  # trimmed means: whole-millimetre ranges make medians step
+            far = f"{lo}+" if hi > 1000 else f"{lo}-{hi}"
+            print(f"  {far} px from a marker: {trimmed_mean(left[k]):+.3f} mm ({k.sum()} px)")
 
 
 def trimmed_mean(x):

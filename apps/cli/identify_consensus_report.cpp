@@ -12,6 +12,7 @@ nlohmann::ordered_json ConsensusToJson(const IdentifyConsensusResult& runs) {
   if (runs.subsets.empty()) return out;
   const DepthErrorModel& kept = runs.Kept().file.model;
   out["kept_run"] = runs.kept;
+  out["identified_again"] = runs.identified_again;
   out["runs"] = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i <= runs.subsets.size(); ++i) {
     const DepthErrorModel& m = runs.Run(i).file.model;
@@ -41,6 +42,11 @@ void PrintConsensus(const IdentifyConsensusResult& runs) {
               << r["c3_mm"].get<double>() << ", C4 " << r["c4_mm"].get<double>() << ", cost "
               << r["final_cost_mm2"].get<double>() << " mm^2, "
               << r["distance_to_kept_mm"].get<double>() << " mm from the kept\n";
+  }
+  if (!runs.identified_again.empty()) {
+    std::cout << "    " << runs.identified_again.size()
+              << " run(s) identified again from the best run's first placement of the skin (their "
+                 "own lay in another basin: docs/correction.md 2.13)\n";
   }
 }
 

@@ -2,6 +2,7 @@
 // Where the CT skin is in each identification frame: one surface registration, then head poses.
 #include "tofnav/correction/initial_pose.hpp"
 
+#include <Eigen/Geometry>
 #include <stdexcept>
 
 namespace tofnav {
@@ -12,10 +13,19 @@ void InitialPoseOptions::Check() const {
   registration.Check();
 }
 
+bool PlacementsDiffer(const MergedPlacement& a, const MergedPlacement& b, double max_angle_rad,
+                      double max_shift_mm) {
+  if (a.through_tool != b.through_tool) return false;
+  const Rigid3d relative = a.image_from_merged.Inverse() * b.image_from_merged;
+  return Eigen::AngleAxisd(relative.rotation).angle() > max_angle_rad ||
+         relative.translation.norm() > max_shift_mm;
+}
+
 InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> frames,
                                        const SurfaceIndex& skin_in_image,
                                        const DepthErrorModel& model,
-                                       const InitialPoseOptions& options) {
+                                       const InitialPoseOptions& options,
+                                       const std::optional<MergedPlacement>& guess) {
   options.Check();
   // Frames are merged through the reference tool where enough of them have its pose: the head is
   // rigid with the tool, while in `world` a slowly moving patient smears the merged cloud (1 mm/s
@@ -57,9 +67,14 @@ InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> fram
   InitialPoseResult out;
   out.reference_frame = reference;
   out.through_tool = through_tool;
-  out.registration = RegisterSurface(head_in_ref, skin_in_image, {}, reg);
+  std::optional<Rigid3d> ref_from_image_guess;
+  if (guess && guess->through_tool == through_tool) {
+    ref_from_image_guess = (guess->image_from_merged * *merged_pose(ref)).Inverse();
+  }
+  out.registration = RegisterSurface(head_in_ref, skin_in_image, {}, reg, ref_from_image_guess);
   const Rigid3d image_from_ref = out.registration.tool_from_image.Inverse();
   const Rigid3d image_from_merged = image_from_ref * ref_from_merged;
+  out.placement = {image_from_merged, through_tool};
   // Frames without the tool's pose go through the rig poses, as good as the patient is still.
   std::optional<Rigid3d> image_from_world;
   if (ref.world_from_ahat) image_from_world = image_from_ref * ref.world_from_ahat->Inverse();
@@ -78,11 +93,15 @@ InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> fram
 BestStartPlacement InitialImageFromBestStart(std::span<const IdentificationFrame> frames,
                                              const SurfaceIndex& skin_in_image,
                                              std::span<const DepthErrorModel> starts,
-                                             const InitialPoseOptions& options) {
+                                             const InitialPoseOptions& options,
+                                             std::span<const MergedPlacement> guesses) {
   if (starts.empty()) throw std::invalid_argument("InitialImageFromBestStart: no start model");
   BestStartPlacement best;
-  for (std::size_t i = 0; i < starts.size(); ++i) {
-    InitialPoseResult pose = InitialImageFromAhat(frames, skin_in_image, starts[i], options);
+  for (std::size_t i = 0; i < starts.size() + guesses.size(); ++i) {
+    const bool guessed = i >= starts.size();
+    InitialPoseResult pose =
+        InitialImageFromAhat(frames, skin_in_image, guessed ? starts.front() : starts[i], options,
+                             guessed ? std::optional(guesses[i - starts.size()]) : std::nullopt);
     best.inlier_fractions.push_back(pose.registration.icp.inlier_fraction);
     if (best.start < 0 ||
         pose.registration.icp.inlier_fraction > best.pose.registration.icp.inlier_fraction) {

@@ -23,12 +23,27 @@ struct InitialPoseOptions {
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
 
+/// Where the skin is in the frame the head clouds were merged in: image_from_merged, with merged
+/// the reference tool's frame (through_tool) or `world`. Runs on other frames of one recording
+/// share it (docs/correction.md 2.13).
+struct MergedPlacement {
+  Rigid3d image_from_merged;
+  bool through_tool = false;
+};
+
+/// True when two placements lie in different basins: their relative rotation is beyond
+/// max_angle_rad or their relative translation beyond max_shift_mm (false when one is through the
+/// tool and the other through `world`: they do not compare).
+bool PlacementsDiffer(const MergedPlacement& a, const MergedPlacement& b,
+                      double max_angle_rad = 0.05, double max_shift_mm = 5.0);
+
 struct InitialPoseResult {
   /// image_from_ahat per frame (same order), nullopt for frames with neither pose.
   std::vector<std::optional<Rigid3d>> image_from_ahat;
   int reference_frame = -1;            // index into the frames
   bool through_tool = false;           // merged through the reference tool, not `world`
   RegisterSurfaceResult registration;  // of the reference frame (tool = its `ahat`)
+  MergedPlacement placement;           // the skin in the merged frame
 };
 
 /// The head samples of a few frames, corrected with `model`, are merged into the reference frame
@@ -39,17 +54,19 @@ struct InitialPoseResult {
 /// when the patient moves); otherwise the patient is taken as static in `world` (the paper's
 /// set-up): image_from_ahat_j = image_from_world * world_from_ahat_j. Frames without the tool's
 /// pose go through `world`. Throws std::invalid_argument when no frame has a pose and head
-/// samples.
+/// samples. With a `guess` merged the same way, the ICP starts from it instead of the coarse
+/// search (a guess through the other frame is ignored).
 InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> frames,
                                        const SurfaceIndex& skin_in_image,
                                        const DepthErrorModel& model,
-                                       const InitialPoseOptions& options = {});
+                                       const InitialPoseOptions& options = {},
+                                       const std::optional<MergedPlacement>& guess = {});
 
 /// The placement kept among several starts.
 struct BestStartPlacement {
   InitialPoseResult pose;
-  int start = -1;                        // index into the starts
-  std::vector<double> inlier_fractions;  // each start's placement's, in order
+  int start = -1;  // index into the starts, then into the guesses (start - starts.size())
+  std::vector<double> inlier_fractions;  // each start's placement's, then each guess's, in order
 };
 
 /// InitialImageFromAhat from each model in `starts` (in order); keeps the placement whose ICP
@@ -57,10 +74,12 @@ struct BestStartPlacement {
 /// A model far from the truth corrects the frames' ranges differently along their different
 /// rays, so their clouds disagree and fewer points reach the skin; the coarse search can also
 /// settle in a wrong basin from one start and not from another (docs/correction.md 2).
+/// Each of `guesses` is refined from the first start's ranges and competes the same way.
 /// Throws std::invalid_argument when `starts` is empty or no frame has a pose and head samples.
 BestStartPlacement InitialImageFromBestStart(std::span<const IdentificationFrame> frames,
                                              const SurfaceIndex& skin_in_image,
                                              std::span<const DepthErrorModel> starts,
-                                             const InitialPoseOptions& options = {});
+                                             const InitialPoseOptions& options = {},
+                                             std::span<const MergedPlacement> guesses = {});
 
 }  // namespace tofnav

@@ -71,6 +71,10 @@ Scene FiveViews(const DepthErrorModel& truth) {
   return scene;
 }
 
+// Where the headframe is, rigid with the head.
+const Rigid3d kToolFromImage(Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX())),
+                             Eigen::Vector3d(10.0, 80.0, 120.0));
+
 TEST(InitialImageFromBestStart, KeepsThePlacementOfTheStartThatPutsMoreOfTheHeadOnTheSkin) {
   const DepthErrorModel truth = testing::TrueModel();
   // 10 mm too little correction head-on, 18 mm at 60 deg: the views disagree (measured: 66 %
@@ -105,9 +109,7 @@ TEST(InitialImageFromBestStart, KeepsThePlacementOfTheStartThatPutsMoreOfTheHead
 TEST(InitialImageFromAhat, MergesThroughTheReferenceToolWhileThePatientMoves) {
   const DepthErrorModel truth = testing::TrueModel();
   Scene scene = FiveViews(truth);
-  const Rigid3d tool_from_image(
-      Eigen::Quaterniond(Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX())),
-      Eigen::Vector3d(10.0, 80.0, 120.0));
+  const Rigid3d tool_from_image = kToolFromImage;
   const Eigen::Vector3d drift_direction = Eigen::Vector3d(1.0, -0.5, 0.7).normalized();
   for (std::size_t k = 0; k < scene.frames.size(); ++k) {
     const Rigid3d world_from_image(Eigen::Quaterniond::Identity(),
@@ -137,6 +139,51 @@ TEST(InitialImageFromAhat, MergesThroughTheReferenceToolWhileThePatientMoves) {
     worst_mm = std::max(worst_mm, error.translation.norm());
   }
   EXPECT_GT(worst_mm, 3.0);
+}
+
+// Another run's placement, a few millimetres and degrees off, is refined by the ICP from where it
+// is (no coarse search) to the exact placement, and competes with the starts' placements.
+TEST(InitialImageFromAhat, RefinesAnotherRunsPlacementThroughTheTool) {
+  const DepthErrorModel truth = testing::TrueModel();
+  Scene scene = FiveViews(truth);
+  const Rigid3d tool_from_image = kToolFromImage;
+  for (std::size_t k = 0; k < scene.frames.size(); ++k)
+    scene.frames[k].tool_from_ahat = tool_from_image * scene.image_from_ahat[k];
+  const Rigid3d off(
+      Eigen::Quaterniond(Eigen::AngleAxisd(0.03, Eigen::Vector3d(1, 1, 0).normalized())),
+      Eigen::Vector3d(2.0, -1.5, 1.0));
+  const MergedPlacement guess{off * tool_from_image.Inverse(), true};
+  const SurfaceIndex skin(scene.skin);
+  const InitialPoseResult placed = InitialImageFromAhat(scene.frames, skin, truth, {}, guess);
+  EXPECT_EQ(placed.registration.coarse.hypotheses, 0);  // started from the guess
+  ASSERT_TRUE(placed.through_tool);
+  const Rigid3d error = tool_from_image * placed.placement.image_from_merged;
+  EXPECT_LT(error.translation.norm(), kExactTranslationMm);
+  EXPECT_LT(Eigen::AngleAxisd(error.rotation).angle() * 180.0 / std::numbers::pi,
+            kExactRotationDeg);
+  EXPECT_FALSE(PlacementsDiffer(placed.placement, {tool_from_image.Inverse(), true}));
+  EXPECT_TRUE(PlacementsDiffer(guess, {tool_from_image.Inverse(), true}, 0.01, 5.0));
+  // Beside the start's own placement it scores the same: both end exact.
+  const std::array<DepthErrorModel, 1> starts{truth};
+  const std::array<MergedPlacement, 1> guesses{guess};
+  const BestStartPlacement best =
+      InitialImageFromBestStart(scene.frames, skin, starts, {}, guesses);
+  ASSERT_EQ(best.inlier_fractions.size(), 2u);
+  EXPECT_NEAR(best.inlier_fractions[1], best.inlier_fractions[0], 0.01);
+}
+
+TEST(PlacementsDiffer, AnotherBasinIsBeyondTheTolerances) {
+  const MergedPlacement a{Rigid3d(Eigen::Quaterniond::Identity(), Eigen::Vector3d(5, 0, 0)), true};
+  MergedPlacement b = a;
+  b.image_from_merged.translation.x() += 4.0;
+  EXPECT_FALSE(PlacementsDiffer(a, b));  // 4 mm: within 5
+  b.image_from_merged.translation.x() += 2.0;
+  EXPECT_TRUE(PlacementsDiffer(a, b));  // 6 mm
+  b = a;
+  b.image_from_merged.rotation = Eigen::AngleAxisd(0.06, Eigen::Vector3d::UnitZ());
+  EXPECT_TRUE(PlacementsDiffer(a, b));  // 0.06 rad against 0.05
+  b.through_tool = false;
+  EXPECT_FALSE(PlacementsDiffer(a, b));  // through `world`: no comparison
 }
 
 TEST(InitialImageFromBestStart, ThrowsWithoutAStart) {

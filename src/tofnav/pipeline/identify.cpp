@@ -226,8 +226,11 @@ IdentifyRecordingResult IdentifyFromRecording(
         {"start model", false,
          options.start.WithReferences(model.theta_reference_rad, model.ab_reference).c1_mm}};
     AppendSubsetStarts(frames, options, starts, result.placement_candidates);
-    BestStartPlacement placement = InitialImageFromBestStart(frames, *skin, starts);
-    for (std::size_t i = 0; i < starts.size(); ++i)
+    for (std::size_t k = 0; k < options.placement_guesses.size(); ++k)
+      result.placement_candidates.push_back({"another run's placement", false, model.c1_mm});
+    BestStartPlacement placement =
+        InitialImageFromBestStart(frames, *skin, starts, {}, options.placement_guesses);
+    for (std::size_t i = 0; i < result.placement_candidates.size(); ++i)
       result.placement_candidates[i].inlier_fraction = placement.inlier_fractions[i];
     result.placement_kept = placement.start;
     const double stage1_s =
@@ -239,6 +242,7 @@ IdentifyRecordingResult IdentifyFromRecording(
     result.icp_rmse_mm = pose.registration.icp.rmse_mm;
     result.icp_inlier_fraction = pose.registration.icp.inlier_fraction;
     result.placed_through_tool = pose.through_tool;
+    result.placement = pose.placement;
     model = IdentifyDepthModel(frames, &target, model, options.identification);
     model.report.seconds += stage1_s;
     if (options.cross_validate_folds >= 2) {

@@ -15,6 +15,7 @@
 #include "tofnav/core/triangle_mesh.hpp"
 #include "tofnav/correction/identification.hpp"
 #include "tofnav/correction/identification_frame.hpp"
+#include "tofnav/correction/initial_pose.hpp"
 #include "tofnav/imaging/ct_volume.hpp"
 #include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/registration/surface_index.hpp"
@@ -74,12 +75,17 @@ struct IdentifyRecordingOptions {
   /// input, and stage 2 stays there (docs/correction.md 2.3). 0: stage 1's and the start
   /// model's placements only; otherwise at least 2.
   int placement_subsets = 3;
+  /// Placements found by other runs on this recording (the consensus passes the best one,
+  /// docs/correction.md 2.13): each is refined by ICP from stage 1's ranges and competes with
+  /// the starts' placements on the same figure.
+  std::vector<MergedPlacement> placement_guesses;
 };
 
 /// One candidate for the skin's first placement: the model whose ranges made it and how much of
 /// the merged cloud it kept.
 struct PlacementCandidate {
-  std::string from;     // "stage-1 model", "start model", "stage 1 without frames k mod n"
+  std::string from;     // "stage-1 model", "start model", "stage 1 without frames k mod n",
+                        // "another run's placement"
   bool subset = false;  // stage 1 refitted on a frame subset
   double c1_mm = 0.0;
   double inlier_fraction = 0.0;
@@ -96,6 +102,7 @@ struct IdentifyRecordingResult {
   std::vector<PlacementCandidate> placement_candidates;
   int placement_kept = -1;
   bool placed_through_tool = false;  // frames merged through the reference tool, not `world`
+  std::optional<MergedPlacement> placement;  // the first placement kept (with a skin)
   /// With exclude_tools: marker observations (a tool marker in a frame) blanked, per tool name,
   /// and the frames in which at least one was.
   std::vector<std::pair<std::string, std::int64_t>> tool_marker_observations_left_out;

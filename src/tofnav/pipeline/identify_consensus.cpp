@@ -80,6 +80,24 @@ std::vector<DepthErrorModel> IdentifyConsensusResult::Models() const {
   return models;
 }
 
+BasinCheck CheckBasins(const std::vector<std::optional<MergedPlacement>>& placements,
+                       const std::vector<double>& inlier_fractions) {
+  if (placements.size() != inlier_fractions.size()) {
+    throw std::invalid_argument("CheckBasins: one inlier fraction per placement");
+  }
+  BasinCheck out;
+  for (std::size_t i = 0; i < placements.size(); ++i) {
+    if (placements[i] && (!out.best || inlier_fractions[i] > inlier_fractions[*out.best]))
+      out.best = i;
+  }
+  if (!out.best) return out;
+  for (std::size_t i = 0; i < placements.size(); ++i) {
+    if (placements[i] && PlacementsDiffer(*placements[i], *placements[*out.best]))
+      out.elsewhere.push_back(i);
+  }
+  return out;
+}
+
 IdentifyConsensusResult IdentifyWithConsensus(
     const AhatRecording& recording, const AhatCamera& camera,
     const std::optional<MarkerRangeModel>& marker_range, const SurfaceIndex* skin,
@@ -103,6 +121,30 @@ IdentifyConsensusResult IdentifyWithConsensus(
     run_options.leave_out = FrameLeaveOut{k, kTenths};
     out.subsets.push_back(
         IdentifyFromRecording(recording, camera, marker_range, skin, run_options, report(k + 1)));
+  }
+  // One basin for every run: a run whose first placement of the skin lies elsewhere than the
+  // best-kept one's (by the figure each run chose its own with) is identified again with that
+  // placement among its candidates (docs/correction.md 2.13).
+  std::vector<std::optional<MergedPlacement>> placements;
+  std::vector<double> inliers;
+  for (std::size_t i = 0; i <= out.subsets.size(); ++i) {
+    placements.push_back(out.Run(i).placement);
+    inliers.push_back(out.Run(i).icp_inlier_fraction);
+  }
+  const BasinCheck basins = CheckBasins(placements, inliers);
+  if (basins.best) {
+    run_options.placement_guesses = {*placements[*basins.best]};
+    for (const std::size_t i : basins.elsewhere) {
+      if (i == 0) {
+        run_options.leave_out.reset();
+      } else {
+        run_options.leave_out = FrameLeaveOut{static_cast<int>(i) - 1, kTenths};
+      }
+      IdentifyRecordingResult again = IdentifyFromRecording(
+          recording, camera, marker_range, skin, run_options, report(static_cast<int>(i)));
+      (i == 0 ? out.full : out.subsets[i - 1]) = std::move(again);
+      out.identified_again.push_back(i);
+    }
   }
   out.kept = MedoidIndex(out.Models());
   return out;

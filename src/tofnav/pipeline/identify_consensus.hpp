@@ -35,10 +35,24 @@ struct ConsensusJackknife {
 };
 ConsensusJackknife JackknifeMedoid(const std::vector<DepthErrorModel>& models);
 
+/// Which runs placed the skin first in another basin than the best one: `best` is the run whose
+/// first placement kept the largest inlier fraction (the figure each run chose its own by; the
+/// first on a tie, none without placements), `elsewhere` the runs whose placement differs from it
+/// (PlacementsDiffer), in order. Throws std::invalid_argument on different lengths.
+struct BasinCheck {
+  std::optional<std::size_t> best;
+  std::vector<std::size_t> elsewhere;
+};
+BasinCheck CheckBasins(const std::vector<std::optional<MergedPlacement>>& placements,
+                       const std::vector<double>& inlier_fractions);
+
 struct IdentifyConsensusResult {
   IdentifyRecordingResult full;                  // every picked frame
   std::vector<IdentifyRecordingResult> subsets;  // subset k leaves out picked frame j, j % 10 == k
   std::size_t kept = 0;                          // 0: the full run; k + 1: subset k
+  /// Runs identified again with the best first placement among their candidates, because
+  /// their own lay in another basin (docs/correction.md 2.13).
+  std::vector<std::size_t> identified_again;
   /// Run i: 0 the full one, k + 1 subset k (throws std::out_of_range beyond them).
   const IdentifyRecordingResult& Run(std::size_t i) const;
   const IdentifyRecordingResult& Kept() const { return Run(kept); }
@@ -51,8 +65,10 @@ struct IdentifyConsensusResult {
 /// Err_C's terms lands in one of two minima depending on which frames it saw, and the medoid
 /// follows the answer most of them give (docs/correction.md 2.9). `subsets` in [0, 10] (throws
 /// std::invalid_argument otherwise): with none the full run alone, with one the full run kept (a
-/// tie) and the subset a stability check only. `progress(run, runs, done, total)`, run 0 the
-/// full one.
+/// tie) and the subset a stability check only. Every run then starts from one basin: the first
+/// placement of the skin kept with the largest inlier fraction over the runs is offered to each
+/// run whose own placement differs from it (PlacementsDiffer), and that run is identified again.
+/// `progress(run, runs, done, total)`, run 0 the full one.
 IdentifyConsensusResult IdentifyWithConsensus(
     const AhatRecording& recording, const AhatCamera& camera,
     const std::optional<MarkerRangeModel>& marker_range, const SurfaceIndex* skin,

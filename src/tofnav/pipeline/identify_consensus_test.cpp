@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <numbers>
+#include <optional>
 #include <vector>
 
 namespace tofnav {
@@ -71,6 +73,33 @@ TEST(Consensus, TiesGoToTheFullRunAndAnEvenSplitIsUnstable) {
   EXPECT_EQ(MedoidIndex(split), 0u);
   EXPECT_NEAR(JackknifeMedoid(split).max_c1_change_mm, 0.5, kExactMm);
   EXPECT_THROW(MedoidIndex({}), std::invalid_argument);
+}
+
+// A placement of the skin through the tool: a rotation about the tool's z and a translation.
+MergedPlacement Placed(double angle_rad, double x_mm) {
+  return {Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::UnitZ())),
+                  Eigen::Vector3d(x_mm, 0.0, 0.0)),
+          true};
+}
+
+// Session 51's mr2-child split (docs/correction.md 2.12): three runs in the right basin (2.6 rad,
+// 67-72 % of the cloud within the gate), three at 0.6-1.1 rad (57-60 %); a run without a skin
+// placement is neither.
+TEST(Consensus, RunsOutsideTheBestPlacementsBasinAreNamed) {
+  const std::vector<std::optional<MergedPlacement>> placements{
+      Placed(0.63, 20.0), Placed(2.60, 0.0), Placed(2.601, 0.2), Placed(0.98, 35.0),
+      Placed(2.599, 0.1), std::nullopt,      Placed(1.14, 40.0)};
+  const std::vector<double> inliers{0.57, 0.69, 0.72, 0.60, 0.67, 0.99, 0.58};
+  const BasinCheck basins = CheckBasins(placements, inliers);
+  ASSERT_TRUE(basins.best.has_value());
+  EXPECT_EQ(*basins.best, 2u);
+  EXPECT_EQ(basins.elsewhere, (std::vector<std::size_t>{0, 3, 6}));
+  // One basin: nothing to do.
+  const BasinCheck one = CheckBasins({Placed(2.6, 0.0), Placed(2.61, 1.0)}, {0.7, 0.71});
+  EXPECT_EQ(*one.best, 1u);
+  EXPECT_TRUE(one.elsewhere.empty());
+  EXPECT_FALSE(CheckBasins({std::nullopt}, {0.5}).best.has_value());
+  EXPECT_THROW(CheckBasins({std::nullopt}, {}), std::invalid_argument);
 }
 
 }  // namespace
