@@ -74,7 +74,7 @@ InitialPoseResult InitialImageFromAhat(std::span<const IdentificationFrame> fram
   out.registration = RegisterSurface(head_in_ref, skin_in_image, {}, reg, ref_from_image_guess);
   const Rigid3d image_from_ref = out.registration.tool_from_image.Inverse();
   const Rigid3d image_from_merged = image_from_ref * ref_from_merged;
-  out.placement = {image_from_merged, through_tool};
+  out.image_from_merged = image_from_merged;
   // Frames without the tool's pose go through the rig poses, as good as the patient is still.
   std::optional<Rigid3d> image_from_world;
   if (ref.world_from_ahat) image_from_world = image_from_ref * ref.world_from_ahat->Inverse();

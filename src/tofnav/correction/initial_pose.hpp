@@ -43,7 +43,7 @@ struct InitialPoseResult {
   int reference_frame = -1;            // index into the frames
   bool through_tool = false;           // merged through the reference tool, not `world`
   RegisterSurfaceResult registration;  // of the reference frame (tool = its `ahat`)
-  MergedPlacement placement;           // the skin in the merged frame
+  Rigid3d image_from_merged;           // the skin in the merged frame (tool or `world`)
 };
 
 /// The head samples of a few frames, corrected with `model`, are merged into the reference frame

@@ -157,11 +157,12 @@ TEST(InitialImageFromAhat, RefinesAnotherRunsPlacementThroughTheTool) {
   const InitialPoseResult placed = InitialImageFromAhat(scene.frames, skin, truth, {}, guess);
   EXPECT_EQ(placed.registration.coarse.hypotheses, 0);  // started from the guess
   ASSERT_TRUE(placed.through_tool);
-  const Rigid3d error = tool_from_image * placed.placement.image_from_merged;
+  const Rigid3d error = tool_from_image * placed.image_from_merged;
   EXPECT_LT(error.translation.norm(), kExactTranslationMm);
   EXPECT_LT(Eigen::AngleAxisd(error.rotation).angle() * 180.0 / std::numbers::pi,
             kExactRotationDeg);
-  EXPECT_FALSE(PlacementsDiffer(placed.placement, {tool_from_image.Inverse(), true}));
+  EXPECT_FALSE(PlacementsDiffer({placed.image_from_merged, placed.through_tool},
+                                {tool_from_image.Inverse(), true}));
   EXPECT_TRUE(PlacementsDiffer(guess, {tool_from_image.Inverse(), true}, 0.01, 5.0));
   // Beside the start's own placement it scores the same: both end exact.
   const std::array<DepthErrorModel, 1> starts{truth};

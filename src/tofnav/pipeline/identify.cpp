@@ -242,7 +242,7 @@ IdentifyRecordingResult IdentifyFromRecording(
     result.icp_rmse_mm = pose.registration.icp.rmse_mm;
     result.icp_inlier_fraction = pose.registration.icp.inlier_fraction;
     result.placed_through_tool = pose.through_tool;
-    result.placement = pose.placement;
+    result.placement = MergedPlacement{pose.image_from_merged, pose.through_tool};
     model = IdentifyDepthModel(frames, &target, model, options.identification);
     model.report.seconds += stage1_s;
     if (options.cross_validate_folds >= 2) {

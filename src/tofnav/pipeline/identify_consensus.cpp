@@ -113,15 +113,18 @@ IdentifyConsensusResult IdentifyWithConsensus(
       if (progress) progress(run, runs, done, total);
     };
   };
-  IdentifyConsensusResult out;
   IdentifyRecordingOptions run_options = options;
-  run_options.leave_out.reset();
-  out.full = IdentifyFromRecording(recording, camera, marker_range, skin, run_options, report(0));
-  for (int k = 0; k < subsets; ++k) {
-    run_options.leave_out = FrameLeaveOut{k, kTenths};
-    out.subsets.push_back(
-        IdentifyFromRecording(recording, camera, marker_range, skin, run_options, report(k + 1)));
-  }
+  // Run 0 on every picked frame, run k + 1 without the frames j with j % 10 == k.
+  const auto identify = [&](std::size_t run) {
+    run_options.leave_out.reset();
+    if (run > 0) run_options.leave_out = FrameLeaveOut{static_cast<int>(run) - 1, kTenths};
+    return IdentifyFromRecording(recording, camera, marker_range, skin, run_options,
+                                 report(static_cast<int>(run)));
+  };
+  IdentifyConsensusResult out;
+  out.full = identify(0);
+  for (int k = 0; k < subsets; ++k)
+    out.subsets.push_back(identify(static_cast<std::size_t>(k) + 1));
   // One basin for every run: a run whose first placement of the skin lies elsewhere than the
   // best-kept one's (by the figure each run chose its own with) is identified again with that
   // placement among its candidates (docs/correction.md 2.13).
@@ -135,14 +138,7 @@ IdentifyConsensusResult IdentifyWithConsensus(
   if (basins.best) {
     run_options.placement_guesses = {*placements[*basins.best]};
     for (const std::size_t i : basins.elsewhere) {
-      if (i == 0) {
-        run_options.leave_out.reset();
-      } else {
-        run_options.leave_out = FrameLeaveOut{static_cast<int>(i) - 1, kTenths};
-      }
-      IdentifyRecordingResult again = IdentifyFromRecording(
-          recording, camera, marker_range, skin, run_options, report(static_cast<int>(i)));
-      (i == 0 ? out.full : out.subsets[i - 1]) = std::move(again);
+      (i == 0 ? out.full : out.subsets[i - 1]) = identify(i);
       out.identified_again.push_back(i);
     }
   }
