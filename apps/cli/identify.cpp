@@ -183,6 +183,11 @@ int RunIdentify(int argc, char** argv) {
   app.add_option("--multipath-passes", sampling.multipath.passes,
                  "multipath: passes of the fixed point (docs/correction.md 7)")
       ->check(CLI::PositiveNumber);
+  app.add_option("--multipath-skin-delay-mm", sampling.multipath.skin_delay_mm,
+                 "multipath: how long the skin reads from its subsurface delay, which the indirect "
+                 "light picks up at each scattering (default 7.58, the paper's; 0: none; "
+                 "docs/correction.md 7.3)")
+      ->check(CLI::Range(0.0, 100.0));
   app.add_flag("--multipath-damped,!--multipath-undamped", sampling.multipath.damped,
                "multipath: damped fixed point, each pass from the mean of the last two (default)");
   bool allow_lossy_depth = false;

@@ -192,7 +192,8 @@ void DefineOptions(py::module_& m) {
       .def_readwrite("min_cos_incidence", &MultipathCorrectionOptions::min_cos_incidence)
       .def_readwrite("max_indirect_ratio", &MultipathCorrectionOptions::max_indirect_ratio)
       .def_readwrite("passes", &MultipathCorrectionOptions::passes)
-      .def_readwrite("alias_mm", &MultipathCorrectionOptions::alias_mm);
+      .def_readwrite("alias_mm", &MultipathCorrectionOptions::alias_mm)
+      .def_readwrite("skin_delay_mm", &MultipathCorrectionOptions::skin_delay_mm);
   OptionsClass<IntensityAbOptions>(m, "IntensityAbOptions",
                                    "the AB the intensity term reads (docs/correction.md 2.10)")
       .def_readwrite("window_mean", &IntensityAbOptions::window_mean)
@@ -225,12 +226,15 @@ py::tuple Multipath(const ArrayF& range_mm,
                     const py::array_t<std::uint16_t, py::array::c_style | py::array::forcecast>& ab,
                     const AhatCamera& camera,
                     const std::optional<MultipathCorrectionOptions>& options,
-                    const std::optional<RangeNormalOptions>& normal_options, bool ab_lossy) {
+                    const std::optional<RangeNormalOptions>& normal_options, bool ab_lossy,
+                    const std::optional<ArrayF>& scatter_delay_mm) {
   MultipathCorrectionStats stats;
+  std::optional<Image<float>> delay;
+  if (scatter_delay_mm) delay = ImageFromArray<float>(*scatter_delay_mm, "scatter_delay_mm");
   const Image<float> out = RemoveMultipath(
       ImageFromArray<float>(range_mm, "range_mm"), ImageFromArray<std::uint16_t>(ab, "ab"), camera,
       options.value_or(MultipathCorrectionOptions{}), normal_options.value_or(RangeNormalOptions{}),
-      {.ab_square_code = ab_lossy}, &stats);
+      {.ab_square_code = ab_lossy, .scatter_delay_mm = delay ? &*delay : nullptr}, &stats);
   py::dict s;
   s["pixels_corrected"] = stats.pixels_corrected;
   s["pixels_dropped"] = stats.pixels_dropped;
@@ -269,9 +273,9 @@ void DefineFrameCorrection(py::module_& m) {
         "where none; (H, W) float32 incidence theta [rad], NaN where none) (ComputeRangeNormals)");
   m.def("remove_multipath", &Multipath, py::arg("range_mm"), py::arg("ab"), py::arg("camera"),
         py::arg("options") = py::none(), py::arg("normal_options") = py::none(),
-        py::arg("ab_lossy") = false,
+        py::arg("ab_lossy") = false, py::arg("scatter_delay_mm") = py::none(),
         "(H, W) range [mm] (0 = invalid; markers removed), (H, W) AB (ab_lossy: a lossy stream's "
-        "square code, Frame.ab_lossy) -> "
+        "square code, Frame.ab_lossy), optional (H, W) scattering delay per pixel [mm] -> "
         "((H, W) float32 range with one-bounce multipath removed, 0 = dropped; stats dict) "
         "(RemoveMultipath, docs/correction.md 7)");
   m.def(

@@ -221,6 +221,10 @@ MultipathCorrectionOptions MultipathFromJson(const OrderedJson& j, const Path& p
     if (!it->is_boolean()) throw IoError(path, std::nullopt, at + ".damped: boolean");
     o.damped = it->get<bool>();
   }
+  o.skin_delay_mm = 0.0;  // absent: written before it existed, identified without the delay
+  if (const auto it = j.find("skin_delay_mm"); it != j.end()) {
+    o.skin_delay_mm = FiniteJsonNumber(*it, path, at + ".skin_delay_mm");
+  }
   try {
     o.Check();
   } catch (const std::invalid_argument& e) {
@@ -241,9 +245,10 @@ OrderedJson MultipathToJson(const MultipathCorrectionOptions& o) {
                      {"passes", o.passes},
                      {"alias_mm", o.alias_mm},
                      {"damped", o.damped},
+                     {"skin_delay_mm", o.skin_delay_mm},
                      {"units",
                       "ab_scale: AB counts m^2 (AB = K rho cos(theta) cos^p(off-axis) / d^2); "
-                      "strides: px; alias_mm: mm; docs/correction.md 7"}};
+                      "strides: px; alias_mm, skin_delay_mm: mm; docs/correction.md 7"}};
 }
 
 }  // namespace

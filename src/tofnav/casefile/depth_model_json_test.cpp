@@ -25,6 +25,7 @@ DepthModelFile Example() {
   file.model.multipath.ab_scale = 71.5;
   file.model.multipath.passes = 3;
   file.model.multipath.damped = false;  // not the default, so the round trip shows it was read
+  file.model.multipath.skin_delay_mm = 6.25;  // likewise
   file.model.report.method = "levenberg-marquardt";
   file.model.report.costs = "smoothness";
   file.model.report.frames = {{3, -1.0, 0.42, 4}, {7, 0.3, 0.5, 3}};
@@ -60,6 +61,7 @@ TEST(DepthModelJson, RoundTripsModelRangeAndReport) {
   EXPECT_EQ(out.model.multipath.ab_scale, 71.5);
   EXPECT_EQ(out.model.multipath.passes, 3);
   EXPECT_FALSE(out.model.multipath.damped);
+  EXPECT_EQ(out.model.multipath.skin_delay_mm, 6.25);
   EXPECT_EQ(out.model.multipath.source_stride_px, in.model.multipath.source_stride_px);
 }
 
@@ -147,6 +149,22 @@ TEST(DepthModelJson, AnOlderFileWithoutTheDampingIsReadUndamped) {
   EXPECT_FALSE(DecodeDepthModelJson(text.dump()).model.multipath.damped);
   text["model"]["multipath"]["damped"] = 1;
   EXPECT_THROW(DecodeDepthModelJson(text.dump()), IoError);
+}
+
+TEST(DepthModelJson, AnOlderFileWithoutTheSkinDelayIsReadWithoutIt) {
+  // Identified before the indirect light carried the skin's delay (docs/correction.md 7.3): its
+  // removal is repeated without it; a delay outside [0, 100] mm is refused, naming the field.
+  nlohmann::json text = nlohmann::json::parse(EncodeDepthModelJson(Example()));
+  EXPECT_EQ(DecodeDepthModelJson(text.dump()).model.multipath.skin_delay_mm, 6.25);
+  text["model"]["multipath"].erase("skin_delay_mm");
+  EXPECT_EQ(DecodeDepthModelJson(text.dump()).model.multipath.skin_delay_mm, 0.0);
+  text["model"]["multipath"]["skin_delay_mm"] = -1.0;
+  try {
+    DecodeDepthModelJson(text.dump());
+    ADD_FAILURE() << "a negative delay was accepted";
+  } catch (const IoError& e) {
+    EXPECT_NE(std::string(e.what()).find("skin_delay_mm"), std::string::npos) << e.what();
+  }
 }
 
 TEST(DepthModelJson, MalformedInputThrowsIoErrorNamingTheProblem) {

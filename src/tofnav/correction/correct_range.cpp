@@ -26,18 +26,24 @@ CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
   if (model.multipath.enabled) {
     // Surface pixels only change; markers keep their measured range for Eq. (2). Only the pixels
     // Eq. (4) corrects below are needed, and the normals are those of the same surface range.
-    Image<std::uint8_t> wanted(measured.width(), measured.height(), 0);
+    // The head's pixels are the patient's skin, whose subsurface delay the indirect light picks up
+    // at each scattering (docs/correction.md 7.3).
+    Image<std::uint8_t> wanted(measured.width(), measured.height(), 0),
+        skin(measured.width(), measured.height(), 0);
     for (std::size_t i = 0; i < wanted.size(); ++i) {
       const auto label = static_cast<PixelClass>(out.segmentation.labels.pixels()[i]);
+      skin.pixels()[i] = label == PixelClass::kHead;
       wanted.pixels()[i] =
           label == PixelClass::kHead || (label == PixelClass::kOutside && !options.roi_only);
     }
+    const Image<float> delay = SkinScatterDelay(skin, model.multipath.skin_delay_mm);
     const Image<float> surface =
         RemoveMultipath(surface_measured, frame.ab, camera, model.multipath, options.normals,
                         {.normal = &out.normals.normal,
                          .wanted = &wanted,
                          .indirect_ratio = &out.indirect_ratio,
-                         .ab_square_code = frame.ab_lossy});
+                         .ab_square_code = frame.ab_lossy,
+                         .scatter_delay_mm = delay.size() > 0 ? &delay : nullptr});
     for (std::size_t i = 0; i < measured.size(); ++i) {
       const auto label = static_cast<PixelClass>(out.segmentation.labels.pixels()[i]);
       if (label != PixelClass::kMarker && label != PixelClass::kTransition) {

@@ -293,9 +293,12 @@ IdentificationFrame PrepareIdentificationFrame(const AhatFrame& frame, const Aha
     for (std::size_t i = 0; i < wanted.size(); ++i) {
       wanted.pixels()[i] = seg.labels.pixels()[i] == kHead;
     }
+    const Image<float> delay = SkinScatterDelay(wanted, sampling.multipath.skin_delay_mm);
     surface_range =
         RemoveMultipath(surface_range, frame.ab, camera, sampling.multipath, sampling.normals,
-                        {.wanted = &wanted, .ab_square_code = frame.ab_lossy});
+                        {.wanted = &wanted,
+                         .ab_square_code = frame.ab_lossy,
+                         .scatter_delay_mm = delay.size() > 0 ? &delay : nullptr});
   }
   const Image<float> decoded_ab = sampling.intensity_ab.window_mean
                                       ? DecodedAb(frame.ab, frame.ab_lossy)

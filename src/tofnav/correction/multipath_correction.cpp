@@ -54,10 +54,12 @@ double CosIncidence(const Eigen::Vector3f& normal, const Eigen::Vector3f& ray, d
 // least-variance axis of the surface pixels' points (a plane fitted over the whole block is far
 // less noisy than per-pixel normals, whose noise biases 1 / cos(theta) upwards); albedo: the mean
 // of rho = AB d^2 / (K cos(theta) V) over the surface pixels (d in metres), capped at max_albedo;
-// solid angle: the centre pixel's times the surface pixels.
+// solid angle: the centre pixel's times the surface pixels. `delay` (may be null): the surfaces'
+// scattering delays; the patch's phase range is its range plus twice its own (what it adds to the
+// light it re-emits, on top of the direct light's single delay that `range` no longer carries).
 std::optional<Patch> BlockPatch(const Image<float>& range, const Image<float>& ab,
-                                const AhatCamera& camera, const MultipathCorrectionOptions& o,
-                                int u0, int v0, int s) {
+                                const Image<float>* delay, const AhatCamera& camera,
+                                const MultipathCorrectionOptions& o, int u0, int v0, int s) {
   const int u1 = std::min(u0 + s, range.width()), v1 = std::min(v0 + s, range.height());
   int best_u = -1, best_v = -1, best_dist = 1 << 30;
   for (int v = v0; v < v1; ++v) {
@@ -104,13 +106,14 @@ std::optional<Patch> BlockPatch(const Image<float>& range, const Image<float>& a
   const double cos_theta = std::max(-n.dot(ray), 0.2);
   const double albedo = std::min(reflectance_sum / count / cos_theta, o.max_albedo);
   const double block_omega = omega * count;
-  return Patch{d_centre * ray, n, d_centre, albedo * block_omega,
+  const double phase_range = d_centre + (delay ? 2.0 * (*delay)(best_u, best_v) : 0.0);
+  return Patch{d_centre * ray, n, phase_range, albedo * block_omega,
                block_omega * d_centre * d_centre / cos_theta};
 }
 
 // The patch of every stride x stride block, row by row (nullopt where a block has none).
 std::vector<std::optional<Patch>> BlockGrid(const Image<float>& range, const Image<float>& ab,
-                                            const AhatCamera& camera,
+                                            const Image<float>* delay, const AhatCamera& camera,
                                             const MultipathCorrectionOptions& o, int stride,
                                             const Image<std::uint8_t>* needed = nullptr) {
   const int cols = (range.width() + stride - 1) / stride,
@@ -121,7 +124,7 @@ std::vector<std::optional<Patch>> BlockGrid(const Image<float>& range, const Ima
     for (int i = 0; i < cols; ++i) {
       if (needed && (*needed)(i, j) == 0) continue;
       grid[static_cast<std::size_t>(j) * cols + i] =
-          BlockPatch(range, ab, camera, o, i * stride, j * stride, stride);
+          BlockPatch(range, ab, delay, camera, o, i * stride, j * stride, stride);
     }
   });
   return grid;
@@ -146,17 +149,17 @@ Complex IndirectIrradiance(const Eigen::Vector3d& point, const Eigen::Vector3d& 
 }
 
 // One pass: `measured` corrected with the indirect light that the scene `geometry` (a range image
-// of the same pixels, 0 = none) and its direct AB predict. `direct_ab` is updated to the measured
-// AB divided by |1 + q|: the indirect light also brightens a pixel, which would overstate its
-// albedo as an emitter in the next pass.
+// of the same pixels, 0 = none, less each surface's scattering delay) and its direct AB predict.
+// `direct_ab` is updated to the measured AB divided by |1 + q|: the indirect light also brightens a
+// pixel, which would overstate its albedo as an emitter in the next pass.
 Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geometry,
                          const Image<float>& measured_ab, Image<float>& direct_ab,
                          const AhatCamera& camera, const MultipathCorrectionOptions& options,
                          const RangeNormalOptions& normal_options, const MultipathHints& hints,
                          MultipathCorrectionStats* stats) {
   const int w = geometry.width(), h = geometry.height();
-  const std::vector<std::optional<Patch>> sources =
-      BlockGrid(geometry, direct_ab, camera, options, options.source_stride_px);
+  const std::vector<std::optional<Patch>> sources = BlockGrid(
+      geometry, direct_ab, hints.scatter_delay_mm, camera, options, options.source_stride_px);
   std::vector<Patch> patches;
   for (const auto& p : sources) {
     if (p) patches.push_back(*p);
@@ -201,7 +204,7 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
   const std::vector<std::optional<Patch>> receivers =
       stride == options.source_stride_px
           ? std::vector<std::optional<Patch>>()
-          : BlockGrid(geometry, direct_ab, camera, options, stride, &needed);
+          : BlockGrid(geometry, direct_ab, nullptr, camera, options, stride, &needed);
   const std::vector<std::optional<Patch>>& grid = receivers.empty() ? sources : receivers;
   Image<Complex> irradiance(cols, rows, Complex(0.0));
   Image<double> valid(cols, rows, 0.0);
@@ -282,6 +285,18 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
   return out;
 }
 
+// The ranges of the surfaces themselves: `range` less each pixel's scattering delay (a pixel the
+// delay would move to or behind the camera keeps its range).
+Image<float> SurfaceRanges(const Image<float>& range, const Image<float>* delay) {
+  if (!delay) return range;
+  Image<float> out = range;
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const float d = out.pixels()[i] - delay->pixels()[i];
+    if (out.pixels()[i] > 0.0f && d > 0.0f) out.pixels()[i] = d;
+  }
+  return out;
+}
+
 }  // namespace
 
 void MultipathCorrectionOptions::Check() const {
@@ -299,6 +314,16 @@ void MultipathCorrectionOptions::Check() const {
   require(max_indirect_ratio > 0.0, "max_indirect_ratio must be > 0");
   require(alias_mm > 0.0 && std::isfinite(alias_mm), "alias_mm must be > 0");
   require(passes >= 1 && passes <= 10, "passes must lie in [1, 10]");
+  require(skin_delay_mm >= 0.0 && skin_delay_mm <= 100.0, "skin_delay_mm must lie in [0, 100]");
+}
+
+Image<float> SkinScatterDelay(const Image<std::uint8_t>& skin, double delay_mm) {
+  if (delay_mm == 0.0) return {};
+  Image<float> out(skin.width(), skin.height(), 0.0f);
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    if (skin.pixels()[i] != 0) out.pixels()[i] = static_cast<float>(delay_mm);
+  }
+  return out;
 }
 
 Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint16_t>& ab,
@@ -311,7 +336,9 @@ Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint
     throw std::invalid_argument("RemoveMultipath: range, AB and camera sizes differ");
   }
   if ((hints.normal && (hints.normal->width() != w || hints.normal->height() != h)) ||
-      (hints.wanted && (hints.wanted->width() != w || hints.wanted->height() != h))) {
+      (hints.wanted && (hints.wanted->width() != w || hints.wanted->height() != h)) ||
+      (hints.scatter_delay_mm &&
+       (hints.scatter_delay_mm->width() != w || hints.scatter_delay_mm->height() != h))) {
     throw std::invalid_argument("RemoveMultipath: the hints' sizes differ from the range's");
   }
   if (stats) *stats = {};
@@ -329,13 +356,15 @@ Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint
     // The first pass has the caller's normals; every pass but the last corrects every pixel (the
     // next pass's emitters).
     MultipathHints pass_hints;
+    pass_hints.scatter_delay_mm = hints.scatter_delay_mm;
     if (pass == 0) pass_hints.normal = hints.normal;
     if (pass + 1 == options.passes) {
       pass_hints.wanted = hints.wanted;
       pass_hints.indirect_ratio = hints.indirect_ratio;
     }
-    Image<float> next = CorrectOnce(range_mm, corrected, measured_ab, direct_ab, camera, options,
-                                    normal_options, pass_hints, stats);
+    Image<float> next =
+        CorrectOnce(range_mm, SurfaceRanges(corrected, hints.scatter_delay_mm), measured_ab,
+                    direct_ab, camera, options, normal_options, pass_hints, stats);
     if (options.damped && pass > 0 && pass + 1 < options.passes) {
       for (std::size_t i = 0; i < next.size(); ++i) {
         const float before = corrected.pixels()[i], after = next.pixels()[i];

@@ -43,6 +43,11 @@ struct MultipathCorrectionOptions {
   bool damped = true;
   /// Phase-wrap distance of the modulation [mm].
   double alias_mm = 1055.0;
+  /// How long the patient's skin reads from its own subsurface delay [mm]: the scattering delay
+  /// of the head's pixels (MultipathHints::scatter_delay_mm, SkinScatterDelay). Its prior is the
+  /// paper's measurement on skin, 7.58 mm over ten subjects (docs/correction.md 7.3); 0: the skin
+  /// delays no light (a model file without it reads so, as it was identified).
+  double skin_delay_mm = 7.58;
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
 
@@ -68,7 +73,19 @@ struct MultipathHints {
   /// (AhatFrame::ab_lossy): the albedos read the centre of the code's interval, (c + 1/2)^2, not
   /// its floor (docs/correction.md 7.2).
   bool ab_square_code = false;
+  /// Per pixel, the range bias [mm] its surface's own scattering adds (a subsurface delay: what
+  /// the skin's material reads long by), 0 where none is known. Indirect light is scattered twice,
+  /// at the emitter and at the receiver, and is delayed at each, while the pixel's direct light is
+  /// delayed once: the measured ranges, which carry each surface's delay once, are moved back to
+  /// the surfaces and the emitter's delay is added to the indirect path (docs/correction.md 7.3).
+  /// Null: no surface delays its light.
+  const Image<float>* scatter_delay_mm = nullptr;
 };
+
+/// The scattering delays of a frame for MultipathHints::scatter_delay_mm: `delay_mm` where `skin`
+/// is nonzero (the head's pixels), 0 elsewhere (surfaces of unknown material: a drape, the
+/// headframe); empty when delay_mm is 0 (no hint needed).
+Image<float> SkinScatterDelay(const Image<std::uint8_t>& skin, double delay_mm);
 
 /// The range image with the predicted one-bounce indirect light removed. `range_mm`: radial range
 /// [mm], 0 = invalid (pixels set to 0 there are neither emitters nor corrected: pass the surface

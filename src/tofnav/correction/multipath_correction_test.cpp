@@ -14,6 +14,7 @@
 #include "tofnav/correction/range_normals.hpp"
 #include "tofnav/sim/render.hpp"
 #include "tofnav/sim/sim_test_scenes.hpp"
+#include "tofnav/sim/tof_model.hpp"
 
 namespace tofnav {
 namespace {
@@ -24,8 +25,10 @@ using sim::testing::WindowAround;
 
 // The simulator renders its indirect light on a finer grid (8 px) than the correction predicts it
 // (16 px), so the test does not check the correction against its own discretisation.
-sim::RenderResult Render(const sim::Scene& scene, double gain) {
+sim::RenderResult Render(const sim::Scene& scene, double gain,
+                         sim::BiasMode mode = sim::BiasMode::kNone) {
   sim::RenderOptions options = sim::IdealRenderOptions();
+  options.bias_mode = mode;
   options.window = WindowAround(CentrePixel().x(), CentrePixel().y(), 200);
   options.multipath = {gain, 8, 8};
   std::mt19937_64 rng(1);
@@ -34,9 +37,9 @@ sim::RenderResult Render(const sim::Scene& scene, double gain) {
 
 // Two 200 x 400 mm walls of albedo 0.8 meeting in a vertical crease at z = 500 mm, each at 45 deg
 // to the optical axis: open towards the camera (concave) or pointing at it (convex).
-sim::Scene CornerScene(bool concave) {
+sim::Scene CornerScene(bool concave, const sim::Material& material = sim::DiffuseMaterial(0.8)) {
   sim::Scene scene;
-  const int m = scene.AddMaterial(sim::DiffuseMaterial(0.8));
+  const int m = scene.AddMaterial(material);
   const Eigen::Quaterniond flip(Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitX()));
   const double half = 100.0 * std::numbers::sqrt2 / 2.0, depth = concave ? -half : half;
   for (const double side : {-1.0, 1.0}) {
@@ -110,6 +113,39 @@ TEST(RemoveMultipath, TakesAConcaveCornersIndirectLightOut) {
   EXPECT_LT(r.after_abs_mm, kMeanAbsMm);
   EXPECT_GT(stats.pixels_corrected, r.pixels);
   EXPECT_GT(stats.mean_shift_mm, kMinShiftMm);
+}
+
+TEST(RemoveMultipath, AddsTheSurfacesScatteringDelayToTheIndirectPath) {
+  // A skin-like corner (subsurface delay 52 ps, all light delayed: 7.4 mm at 142 MHz) in the
+  // physical mode: its direct light is delayed once, its indirect light twice (at both walls), so
+  // the indirect path is 2 x 7.4 mm longer than the measured ranges say. Given the delay, the
+  // removal must meet the delay-free corner's bound; without it, it leaves much more.
+  constexpr double kMeanFraction = 0.1;  // as TakesAConcaveCornersIndirectLightOut
+  sim::Material skin = sim::DiffuseMaterial(0.8);
+  skin.subsurface_fraction = 1.0;
+  skin.subsurface_delay_ps = 52.0;
+  const double delay_mm = sim::SubsurfaceBiasMm(skin, 0.0, sim::IdealRenderOptions().sensor);
+  ASSERT_GT(delay_mm, 7.0);
+  const sim::Scene scene = CornerScene(true, skin);
+  const sim::RenderResult on = Render(scene, 1.0, sim::BiasMode::kPhysical),
+                          off = Render(scene, 0.0, sim::BiasMode::kPhysical);
+  const Image<float> measured = RangeAsFloat(on.frame.range_mm);
+  const Image<std::uint8_t> everywhere(measured.width(), measured.height(), 1);
+  const Image<float> delay = SkinScatterDelay(everywhere, delay_mm);
+  const MultipathCorrectionOptions options = OptionsFor(sim::IdealRenderOptions());
+  const Residual with = Compare(on, off,
+                                RemoveMultipath(measured, on.frame.ab, TestCamera(), options, {},
+                                                {.scatter_delay_mm = &delay}));
+  const Residual without =
+      Compare(on, off, RemoveMultipath(measured, on.frame.ab, TestCamera(), options));
+  RecordProperty("shift_before_mm", std::to_string(with.before_mm));
+  RecordProperty("residual_with_delay_mm", std::to_string(with.after_mm));
+  RecordProperty("residual_without_delay_mm", std::to_string(without.after_mm));
+  EXPECT_GT(with.pixels, 10000);
+  EXPECT_LT(std::abs(with.after_mm), kMeanFraction * with.before_mm);
+  // Without the delay the indirect phase is read short and too little is removed.
+  EXPECT_GT(without.after_mm, with.after_mm + 0.04 * with.before_mm);
+  EXPECT_EQ(SkinScatterDelay(everywhere, 0.0).size(), 0u);  // no delay: no hint
 }
 
 TEST(RemoveMultipath, DampedPassesSettleWhereUndampedOnesAlternate) {

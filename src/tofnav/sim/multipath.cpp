@@ -2,12 +2,14 @@
 // One-bounce diffuse multipath in screen space (docs/tof_physics.md section 6.2).
 #include "tofnav/sim/multipath.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <vector>
 
 #include "tofnav/core/parallel_for.hpp"
 #include "tofnav/core/require.hpp"
+#include "tofnav/sim/tof_model.hpp"
 
 namespace tofnav::sim {
 namespace {
@@ -20,8 +22,8 @@ struct Patch {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();   // x_j in ahat [mm]
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // facing the camera
   double range_mm = 0.0;                             // d_j
-  double weight = 0.0;                               // rho_j Omega_j [sr]
-  double min_r2 = 0.0;                               // patch area: r^2 below it is clamped
+  Complex weight = 0.0;  // rho_j Omega_j [sr], times the emitter's subsurface response H_j
+  double min_r2 = 0.0;   // patch area: r^2 below it is clamped
 };
 
 // Pixel (u, v)'s centre-ray normal, turned to face the camera.
@@ -53,6 +55,15 @@ Eigen::Vector3d BlockNormal(const MultipathInputs& in, const PixelRect& window, 
                                    : FacingNormal(in, u_centre, v_centre);
 }
 
+// The subsurface response a scattering at incidence acos(cos_incidence) applies (1 outside the
+// physical bias mode or without subsurface scattering).
+Complex ScatteringResponse(const Material& material, double cos_incidence,
+                           const MultipathInputs& in) {
+  if (in.subsurface_modulation_hz <= 0.0 || material.subsurface_fraction <= 0.0) return 1.0;
+  return SubsurfaceFactor(material, std::acos(std::clamp(cos_incidence, 0.0, 1.0)),
+                          in.subsurface_modulation_hz);
+}
+
 // The centre pixel of each stride x stride block of the window that hits a surface.
 std::vector<Patch> SamplePatches(const Scene& scene, const PixelRect& window,
                                  const MultipathInputs& in, int stride) {
@@ -66,8 +77,10 @@ std::vector<Patch> SamplePatches(const Scene& scene, const PixelRect& window,
       const Eigen::Vector3d n = BlockNormal(in, window, u, v, stride);
       const double cos_theta = std::max(-n.dot(ray), 1e-3);
       const double block_omega = omega * stride * stride;
-      const double albedo = scene.materials[static_cast<std::size_t>(m)].albedo;
-      patches.push_back({d * ray, n, d, albedo * block_omega, block_omega * d * d / cos_theta});
+      const Material& material = scene.materials[static_cast<std::size_t>(m)];
+      const Complex response = ScatteringResponse(material, cos_theta, in);
+      patches.push_back({d * ray, n, d, material.albedo * block_omega * response,
+                         block_omega * d * d / cos_theta});
     }
   }
   return patches;
@@ -88,8 +101,8 @@ Complex IndirectIrradiance(const Patch& receiver, const std::vector<Patch>& patc
     const double cos_j = p.normal.dot(to_receiver) / r,
                  cos_i = -receiver.normal.dot(to_receiver) / r;
     if (cos_j <= 0.0 || cos_i <= 0.0) continue;  // facing away: no exchange
-    const double form = p.weight * cos_j * cos_i / std::max(r2, p.min_r2);
-    sum += std::polar(form, two_pi_over_two_alias * (p.range_mm + r));
+    const double form = cos_j * cos_i / std::max(r2, p.min_r2);
+    sum += p.weight * std::polar(form, two_pi_over_two_alias * (p.range_mm + r));
   }
   return sum / std::numbers::pi;
 }
@@ -124,7 +137,7 @@ void AddMultipath(const MultipathOptions& options, const Scene& scene, const Pix
       if (d <= 0.0 || in.material(u, v) < 0) continue;
       const Eigen::Vector3d ray = in.ray_in_ahat(u, v);
       const Eigen::Vector3d n = BlockNormal(in, window, u, v, stride);
-      irradiance(i, j) = IndirectIrradiance({d * ray, n, d, 0.0, 0.0}, patches, k);
+      irradiance(i, j) = IndirectIrradiance({d * ray, n, d, Complex(0.0), 0.0}, patches, k);
       valid(i, j) = 1.0;
     }
   });
@@ -150,11 +163,16 @@ void AddMultipath(const MultipathOptions& options, const Scene& scene, const Pix
       const Eigen::Vector3d ray = in.ray_in_ahat(u, v);
       const double cos_theta_i =
           std::max(std::abs(in.normal_in_ahat(u, v).cast<double>().dot(ray)), kMinCosIncidence);
+      // The receiver's own scattering delays the indirect light as it does the direct light.
+      const int m = in.material(u, v);
+      const Complex receiver =
+          m < 0 ? Complex(1.0)
+                : ScatteringResponse(scene.materials[static_cast<std::size_t>(m)], cos_theta_i, in);
       const Complex g = (w[0] * irradiance(i0, j0) + w[1] * irradiance(i1, j0) +
                          w[2] * irradiance(i0, j1) + w[3] * irradiance(i1, j1)) /
                         w_sum * (d * d / cos_theta_i);
       phasor(u, v) += options.gain * in.diffuse_share(u, v) * std::abs(phasor(u, v)) * g *
-                      std::polar(1.0, k * d);
+                      std::polar(1.0, k * d) * (receiver / std::abs(receiver));
     }
   });
 }

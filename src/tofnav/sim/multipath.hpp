@@ -37,6 +37,9 @@ struct MultipathInputs {
   const Image<Eigen::Vector3d>& ray_in_ahat;     // unit centre ray
   const Image<double>& solid_angle_sr;           // of the pixel, 0 where unknown
   const Image<double>& diffuse_share;            // Lambertian part of the pixel's direct AB
+  /// Modulation frequency [Hz] of the subsurface responses that each scattering applies to the
+  /// indirect light (physical bias mode); 0: no surface delays its light.
+  double subsurface_modulation_hz = 0.0;
 };
 
 /// Adds the one-bounce paths to `phasor` (amplitude * exp(i 2 pi d / L) per pixel) over `window`.
@@ -48,6 +51,9 @@ struct MultipathInputs {
 /// another surface only its diffuse base (rho) reaches the camera (docs/simulator.md, multipath).
 /// Emitters use rho_j alone for the same reason: what a retro-reflector returns goes back to the
 /// source, not to the other surfaces.
+/// With `subsurface_modulation_hz` set, the indirect light is scattered, and delayed, twice: the
+/// emitter's subsurface response H_j multiplies each patch's light and the receiver's own phase
+/// arg H_i the sum (the direct light carries H_i once; docs/tof_physics.md 6.2).
 void AddMultipath(const MultipathOptions& options, const Scene& scene, const PixelRect& window,
                   const MultipathInputs& in, double alias_mm, Image<std::complex<double>>& phasor);
 

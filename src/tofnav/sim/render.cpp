@@ -92,13 +92,15 @@ void ApplyMultipath(const RenderOptions& options, const Scene& scene, const Rend
           linear ? std::abs(rays.jacobian(u, v).determinant()) / (rho2 * std::sqrt(rho2)) : 0.0;
     }
   });
-  const MultipathInputs in{result.truth_range_mm,
-                           result.truth_normal_in_ahat,
-                           result.truth_material,
-                           result.truth_object,
-                           rays.centre,
-                           solid_angle,
-                           workspace.buffers.diffuse_share};
+  const MultipathInputs in{
+      result.truth_range_mm,
+      result.truth_normal_in_ahat,
+      result.truth_material,
+      result.truth_object,
+      rays.centre,
+      solid_angle,
+      workspace.buffers.diffuse_share,
+      options.bias_mode == BiasMode::kPhysical ? options.sensor.ModulationHz() : 0.0};
   AddMultipath(options.multipath, scene, window, in, options.sensor.alias_mm,
                workspace.buffers.phasor);
 }
