@@ -6,6 +6,9 @@ session/, depth_model.json and frf.json), as `tofnav evaluate suite --out DIR` l
 
   removal RUN TWIN      the multipath the removal faced and what it left, by incidence, against TWIN:
                         the same case and seed rendered with "multipath_gain": 0 (a suite file)
+  delay RUN TWIN        the removal repeated on the head's pixels without and with the skin's
+                        delay, and from the true ranges, by the multipath put in (docs/correction.md
+                        7.3)
   share RUN TWIN        the shift the removal takes out against the one the multipath put in, by
                         incidence (trimmed means: a ZDEPTH range is whole millimetres)
   oracle RUN            C1, C3, C4 of the pipeline's own correction fitted to the true ranges over
@@ -31,6 +34,8 @@ import tofnav
 
 def case_dir(run):
     found = sorted(glob.glob(run + "/seed*"))
+    if not found and glob.glob(run + "/session"):
+        return run  # a suite run with one seed and no stability runs
     if not found:
         sys.exit(f"{run}: no seed* folder (a suite case folder was expected)")
     return found[0]
@@ -288,9 +293,51 @@ def region(run_path, coefficients):
             print(f"  {lo:3d}-{lo + 30:3d} mm from the stickers: {np.median(errors[k]):+.2f} mm ({100 * k.mean():.0f} %)")
 
 
+def delay(run_path, twin_path):
+    run, twin = Run(run_path), Run(twin_path, with_skin=False)
+    without, frf = run.model((0.0, 0.0, 0.0), multipath=False)
+    options = run.model()[0].multipath
+    skin_mm = options.skin_delay_mm or 7.58
+    rows, put_in = {}, []
+    for i in run.frames(6):
+        frame = run.recording.read_frame(int(i))
+        c = run.correct(frame, without, frf)
+        labels = np.asarray(c["labels"])
+        depth = np.asarray(frame.depth).astype(np.float32)
+        surface = (labels != tofnav.PIXEL_MARKER) & (labels != tofnav.PIXEL_TRANSITION) & (depth > 0)
+        measured = np.where(surface, depth, 0).astype(np.float32)
+        clean = np.asarray(twin.correct(twin.recording.read_frame(int(i)), without, frf)["range_mm"], float)
+        skin = labels == tofnav.PIXEL_HEAD
+        head = run.head_mask(i, (measured > 0) & (clean > 0))
+        true = np.asarray(run.true_range[i], np.float32)
+        on_true = np.where(surface & (true > 0), true + skin_mm * skin, measured).astype(np.float32)
+        for name, ranges, tau in [("measured, no delay", measured, None),
+                                  (f"measured, skin {skin_mm:.2f} mm", measured, skin_mm * skin),
+                                  (f"true, skin {skin_mm:.2f} mm", on_true, skin_mm * skin)]:
+            out, _ = tofnav.remove_multipath(ranges, np.asarray(frame.ab), run.camera, options, None,
+                                             bool(frame.ab_lossy),
+                                             None if tau is None else np.ascontiguousarray(tau, np.float32))
+            shift = np.where(np.asarray(out) > 0, ranges - np.asarray(out, float), np.nan)
+            rows.setdefault(name, []).append((measured - shift - clean)[head])
+        put_in.append((measured - clean)[head])
+    put_in = np.concatenate(put_in)
+    print(f"multipath put in on the head: trimmed mean {trimmed_mean(put_in):+.3f} mm")
+    for name, parts in rows.items():
+        left = np.concatenate(parts)
+        ok = np.isfinite(left)
+        line = f"  {name:24s} left {trimmed_mean(left[ok]):+.3f} mm;"
+        for lo, hi in [(0, 1), (1, 2), (2, 4), (4, 1000)]:
+            k = ok & (put_in >= lo) & (put_in < hi)
+            if k.sum() > 50:
+                line += f" {lo}-{hi if hi < 1000 else ''} mm put in: {trimmed_mean(left[k]):+.2f}"
+        print(line)
+
+
 def main(argv):
     if len(argv) >= 3 and argv[0] == "removal":
         removal(argv[1], argv[2])
+    elif len(argv) >= 3 and argv[0] == "delay":
+        delay(argv[1], argv[2])
     elif len(argv) >= 3 and argv[0] == "share":
         share(argv[1], argv[2])
     elif len(argv) >= 2 and argv[0] == "oracle":
