@@ -185,7 +185,7 @@ int RunIdentify(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   app.add_option("--multipath-skin-delay-mm", sampling.multipath.skin_delay_mm,
                  "multipath: how long the skin reads from its subsurface delay, which the indirect "
-                 "light picks up at each scattering (default 7.58, the paper's; 0: none; "
+                 "light picks up at each scattering (the paper's skin: 7.58; default 0: none; "
                  "docs/correction.md 7.3)")
       ->check(CLI::Range(0.0, 100.0));
   app.add_flag("--multipath-damped,!--multipath-undamped", sampling.multipath.damped,

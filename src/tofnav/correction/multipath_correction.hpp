@@ -44,10 +44,10 @@ struct MultipathCorrectionOptions {
   /// Phase-wrap distance of the modulation [mm].
   double alias_mm = 1055.0;
   /// How long the patient's skin reads from its own subsurface delay [mm]: the scattering delay
-  /// of the head's pixels (MultipathHints::scatter_delay_mm, SkinScatterDelay). Its prior is the
-  /// paper's measurement on skin, 7.58 mm over ten subjects (docs/correction.md 7.3); 0: the skin
-  /// delays no light (a model file without it reads so, as it was identified).
-  double skin_delay_mm = 7.58;
+  /// of the head's pixels (MultipathHints::scatter_delay_mm, SkinScatterDelay); the paper measured
+  /// 7.58 mm on skin over ten subjects. 0 (the default): the skin delays no light. Off by default
+  /// because at 7.58 mm one judged run's identification broke (docs/correction.md 7.3).
+  double skin_delay_mm = 0.0;
   void Check() const;  // throws std::invalid_argument naming the bad field
 };
 
