@@ -28,11 +28,12 @@ CorrectedFrame CorrectFrame(const AhatFrame& frame, const AhatCamera& camera,
     // Eq. (4) corrects below are needed, and the normals are those of the same surface range.
     // The head's pixels are the patient's skin, whose subsurface delay the indirect light picks up
     // at each scattering (docs/correction.md 7.3).
+    const bool delays = model.multipath.skin_delay_mm != 0.0;
     Image<std::uint8_t> wanted(measured.width(), measured.height(), 0),
-        skin(measured.width(), measured.height(), 0);
+        skin(delays ? measured.width() : 0, delays ? measured.height() : 0, 0);
     for (std::size_t i = 0; i < wanted.size(); ++i) {
       const auto label = static_cast<PixelClass>(out.segmentation.labels.pixels()[i]);
-      skin.pixels()[i] = label == PixelClass::kHead;
+      if (delays) skin.pixels()[i] = label == PixelClass::kHead;
       wanted.pixels()[i] =
           label == PixelClass::kHead || (label == PixelClass::kOutside && !options.roi_only);
     }

@@ -287,11 +287,10 @@ Image<float> CorrectOnce(const Image<float>& measured, const Image<float>& geome
 
 // The ranges of the surfaces themselves: `range` less each pixel's scattering delay (a pixel the
 // delay would move to or behind the camera keeps its range).
-Image<float> SurfaceRanges(const Image<float>& range, const Image<float>* delay) {
-  if (!delay) return range;
+Image<float> SurfaceRanges(const Image<float>& range, const Image<float>& delay) {
   Image<float> out = range;
   for (std::size_t i = 0; i < out.size(); ++i) {
-    const float d = out.pixels()[i] - delay->pixels()[i];
+    const float d = out.pixels()[i] - delay.pixels()[i];
     if (out.pixels()[i] > 0.0f && d > 0.0f) out.pixels()[i] = d;
   }
   return out;
@@ -362,9 +361,11 @@ Image<float> RemoveMultipath(const Image<float>& range_mm, const Image<std::uint
       pass_hints.wanted = hints.wanted;
       pass_hints.indirect_ratio = hints.indirect_ratio;
     }
+    const Image<float> surfaces =
+        hints.scatter_delay_mm ? SurfaceRanges(corrected, *hints.scatter_delay_mm) : Image<float>();
     Image<float> next =
-        CorrectOnce(range_mm, SurfaceRanges(corrected, hints.scatter_delay_mm), measured_ab,
-                    direct_ab, camera, options, normal_options, pass_hints, stats);
+        CorrectOnce(range_mm, hints.scatter_delay_mm ? surfaces : corrected, measured_ab, direct_ab,
+                    camera, options, normal_options, pass_hints, stats);
     if (options.damped && pass > 0 && pass + 1 < options.passes) {
       for (std::size_t i = 0; i < next.size(); ++i) {
         const float before = corrected.pixels()[i], after = next.pixels()[i];
