@@ -53,16 +53,6 @@ void PoseFilter::Initialise(const Rigid3d& measured, double timestamp_s,
   only_initialised_ = true;
 }
 
-// F = [1 dt; 0 1], Q = s^2 [dt^4/4 dt^3/2; dt^3/2 dt^2] (discrete white acceleration).
-PoseFilter::Axis2 PoseFilter::Propagate(const Axis2& p, double dt_s, double accel_sigma) {
-  const double q = accel_sigma * accel_sigma, dt2 = dt_s * dt_s;
-  Axis2 out;
-  out.pp = p.pp + 2.0 * dt_s * p.pv + dt2 * p.vv + q * dt2 * dt2 / 4.0;
-  out.pv = p.pv + dt_s * p.vv + q * dt2 * dt_s / 2.0;
-  out.vv = p.vv + q * dt2;
-  return out;
-}
-
 std::optional<Rigid3d> PoseFilter::Predict(double timestamp_s) const {
   if (!initialised_) return std::nullopt;
   const double dt = timestamp_s - last_s_;
@@ -87,11 +77,13 @@ PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
   const double accel_sigma = step.position_accel_sigma_mm_per_s2 > 0.0
                                  ? step.position_accel_sigma_mm_per_s2
                                  : options_.position_accel_sigma_mm_per_s2;
-  const Axis2 pos = Propagate(position_cov_, dt, accel_sigma);
-  const Axis2 rot = Propagate(rotation_cov_, dt, options_.rotation_accel_sigma_rad_per_s2);
+  const RateCovariance pos = PropagateConstantVelocity(position_cov_, dt, accel_sigma);
+  const RateCovariance rot =
+      PropagateConstantVelocity(rotation_cov_, dt, options_.rotation_accel_sigma_rad_per_s2);
   const double sp = options_.position_sigma_mm, sr = options_.rotation_sigma_rad;
-  const double s_pos = pos.pp + measurement_variance_scale * step.position_variance_scale * sp * sp;
-  const double s_rot = rot.pp + measurement_variance_scale * step.rotation_variance_scale * sr * sr;
+  const double r_pos = measurement_variance_scale * step.position_variance_scale * sp * sp;
+  const double r_rot = measurement_variance_scale * step.rotation_variance_scale * sr * sr;
+  const double s_pos = pos.pp + r_pos, s_rot = rot.pp + r_rot;
   const Eigen::Vector3d innovation_pos = measured.translation - predicted->translation;
   const Eigen::Vector3d innovation_rot =
       RotationVector(measured.rotation * predicted->rotation.inverse());
@@ -110,15 +102,15 @@ PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
   }
   gated_in_a_row_ = 0;
   only_initialised_ = false;
-  const double kp0 = pos.pp / s_pos, kp1 = pos.pv / s_pos;
-  const double kr0 = rot.pp / s_rot, kr1 = rot.pv / s_rot;
-  position_mm_ = predicted->translation + kp0 * innovation_pos;
-  velocity_mm_per_s_ += kp1 * innovation_pos;
-  rotation_ = (FromRotationVector(kr0 * innovation_rot) * predicted->rotation).normalized();
-  angular_velocity_rad_per_s_ += kr1 * innovation_rot;
-  // P = (I - K H) P for H = [1 0].
-  position_cov_ = {(1.0 - kp0) * pos.pp, (1.0 - kp0) * pos.pv, pos.vv - kp1 * pos.pv};
-  rotation_cov_ = {(1.0 - kr0) * rot.pp, (1.0 - kr0) * rot.pv, rot.vv - kr1 * rot.pv};
+  const RateCovarianceUpdate up = MeasureValue(pos, r_pos);
+  const RateCovarianceUpdate ur = MeasureValue(rot, r_rot);
+  position_mm_ = predicted->translation + up.value_gain * innovation_pos;
+  velocity_mm_per_s_ += up.rate_gain * innovation_pos;
+  rotation_ =
+      (FromRotationVector(ur.value_gain * innovation_rot) * predicted->rotation).normalized();
+  angular_velocity_rad_per_s_ += ur.rate_gain * innovation_rot;
+  position_cov_ = up.posterior;
+  rotation_cov_ = ur.posterior;
   if (innovation_pos.squaredNorm() / s_pos > options_.boost_chi2) {  // a manoeuvre starts
     position_cov_.vv +=
         options_.boost_velocity_sigma_mm_per_s * options_.boost_velocity_sigma_mm_per_s;
@@ -127,7 +119,7 @@ PoseFilterUpdate PoseFilter::Update(const Rigid3d& measured, double timestamp_s,
     rotation_cov_.vv += options_.boost_rate_sigma_rad_per_s * options_.boost_rate_sigma_rad_per_s;
   }
   last_s_ = timestamp_s;
-  return {Rigid3d(rotation_, position_mm_), false, false, kp0};
+  return {Rigid3d(rotation_, position_mm_), false, false, up.value_gain};
 }
 
 }  // namespace tofnav

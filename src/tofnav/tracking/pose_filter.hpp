@@ -5,6 +5,7 @@
 #include <optional>
 
 #include "tofnav/core/rigid3d.hpp"
+#include "tofnav/tracking/constant_velocity.hpp"
 
 namespace tofnav {
 
@@ -81,11 +82,7 @@ class PoseFilter {
   bool initialised() const { return initialised_; }
 
  private:
-  struct Axis2 {  // shared 2 x 2 covariance of (value, rate) of three isotropic axes
-    double pp = 0.0, pv = 0.0, vv = 0.0;
-  };
   void Initialise(const Rigid3d& measured, double timestamp_s, const PoseFilterStep& step);
-  static Axis2 Propagate(const Axis2& p, double dt_s, double accel_sigma);
 
   PoseFilterOptions options_;
   bool initialised_ = false;
@@ -94,7 +91,7 @@ class PoseFilter {
   Eigen::Vector3d velocity_mm_per_s_ = Eigen::Vector3d::Zero();
   Eigen::Quaterniond rotation_ = Eigen::Quaterniond::Identity();
   Eigen::Vector3d angular_velocity_rad_per_s_ = Eigen::Vector3d::Zero();  // in `ahat`
-  Axis2 position_cov_, rotation_cov_;
+  RateCovariance position_cov_, rotation_cov_;
   int gated_in_a_row_ = 0;
   double init_variance_scale_ = 1.0;  // of the measurement the state started from
   bool only_initialised_ = false;     // no measurement accepted since (re-)initialisation

@@ -12,8 +12,6 @@
 namespace tofnav {
 namespace {
 
-constexpr double kWorldPositionSigmaMm = 1e3;  // the world filter's position: not judged
-
 // A pose's noise variance relative to one at `from_mm`: (range / from_mm)^(2 exponent), never
 // below 1 (ToolTrackerOptions::noise_growth_exponent).
 double RangeVarianceScale(double range_mm, double from_mm, double exponent) {
@@ -65,6 +63,11 @@ void ToolTrackerOptions::Check() const {
           "ToolTrackerOptions::world_rate_sigma_rad_per_s must be > 0");
   Require(std::isfinite(world_accel_sigma_rad_per_s2) && world_accel_sigma_rad_per_s2 > 0.0,
           "ToolTrackerOptions::world_accel_sigma_rad_per_s2 must be > 0");
+  Require(std::isfinite(world_still_sigma_rad_per_s) && world_still_sigma_rad_per_s >= 0.0,
+          "ToolTrackerOptions::world_still_sigma_rad_per_s must be >= 0");
+  Require(std::isfinite(world_still_dwell_s) && world_still_dwell_s > 0.0 &&
+              std::isfinite(world_turning_dwell_s) && world_turning_dwell_s > 0.0,
+          "ToolTrackerOptions: world_still_dwell_s and world_turning_dwell_s must be > 0");
   Require(std::isfinite(noise_growth_range_mm) && noise_growth_range_mm > 0.0 &&
               std::isfinite(rotation_noise_growth_range_mm) &&
               rotation_noise_growth_range_mm > 0.0 && std::isfinite(noise_growth_exponent) &&
@@ -85,25 +88,28 @@ ToolTracker::ToolTracker(std::vector<ToolGeometry> tools, const ToolTrackerOptio
     centroid_in_tool_.push_back(MarkerCentroid(tool));
   }
   filters_.assign(tools_.size(), PoseFilter(options.filter));
-  PoseFilterOptions world = options.filter;
-  world.max_gap_s = std::max(world.max_gap_s, options.world_max_gap_s);
-  world.initial_rate_sigma_rad_per_s = options.world_rate_sigma_rad_per_s;
-  world.boost_rate_sigma_rad_per_s =
-      std::min(world.boost_rate_sigma_rad_per_s, options.world_rate_sigma_rad_per_s);
-  world.rotation_accel_sigma_rad_per_s2 =
-      std::min(world.rotation_accel_sigma_rad_per_s2, options.world_accel_sigma_rad_per_s2);
-  // Only its orientation is used: the position in `world` carries the headset's SLAM drift
-  // (millimetres over a gap) and must not gate a good orientation.
-  world.position_sigma_mm = kWorldPositionSigmaMm;
-  world.gate_floor_mm = std::numeric_limits<double>::infinity();
-  world_filters_.assign(tools_.size(), PoseFilter(world));
+  WorldOrientationOptions world;
+  world.rotation_sigma_rad = options.filter.rotation_sigma_rad;
+  world.turning_rate_sigma_rad_per_s =
+      std::min(options.filter.boost_rate_sigma_rad_per_s, options.world_rate_sigma_rad_per_s);
+  world.turning_accel_sigma_rad_per_s2 = std::min(options.filter.rotation_accel_sigma_rad_per_s2,
+                                                  options.world_accel_sigma_rad_per_s2);
+  world.still_sigma_rad_per_s = options.world_still_sigma_rad_per_s;
+  world.still_dwell_s = options.world_still_dwell_s;
+  world.turning_dwell_s = options.world_turning_dwell_s;
+  world.gate_chi2 = options.filter.gate_chi2;
+  world.gate_floor_rad = options.filter.gate_floor_rad;
+  world.boost_chi2 = options.filter.boost_chi2;
+  world.max_gated = options.filter.max_gated;
+  world.max_gap_s = std::max(options.filter.max_gap_s, options.world_max_gap_s);
+  world_filters_.assign(tools_.size(), WorldOrientationFilter(world));
   world_positions_.assign(tools_.size(), WorldPositionFilter(options.world_position));
   Reset();
 }
 
 void ToolTracker::Reset() {
   for (PoseFilter& f : filters_) f.Reset();
-  for (PoseFilter& f : world_filters_) f.Reset();
+  for (WorldOrientationFilter& f : world_filters_) f.Reset();
   for (WorldPositionFilter& f : world_positions_) f.Reset();
   rig_jitter_.Reset();
   last_pose_.assign(tools_.size(), std::nullopt);
@@ -219,12 +225,11 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
         world_filters_[t].Reset();
         world_positions_[t].Reset();
       } else {
-        const PoseFilterUpdate world = world_filters_[t].Update(
-            *world_from_ahat * measured, timestamp_s,
-            {.measurement_variance_scale = world_scale, .rotation_variance_scale = rotation_scale});
+        const WorldOrientationUpdate world = world_filters_[t].Update(
+            (*world_from_ahat * measured).rotation, timestamp_s, world_scale * rotation_scale);
         // Gated there, the world filter's output is its prediction: the held orientation of a
         // tool that stands still, better than the raw one the `ahat` filter may restart from.
-        filtered.rotation = (world_from_ahat->Inverse() * world.filtered).rotation;
+        filtered.rotation = world_from_ahat->rotation.inverse() * world.filtered;
         if (options_.position_in_world) {
           // Fused with the `ahat` filter's position: while the camera stands still it averages
           // many frames (its variance ratio small), while it moves it is the raw one's.

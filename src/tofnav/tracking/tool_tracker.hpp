@@ -11,6 +11,7 @@
 #include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/tracking/pose_filter.hpp"
 #include "tofnav/tracking/tool_pose.hpp"
+#include "tofnav/tracking/world_orientation_filter.hpp"
 #include "tofnav/tracking/world_position_filter.hpp"
 
 namespace tofnav {
@@ -39,7 +40,8 @@ struct ToolTrackerOptions {
   /// over the tool): there the tool stands still, so the held orientation stays valid where the
   /// `ahat` filter (filter.max_gap_s) must restart from one raw pose.
   double world_max_gap_s = 5.0;
-  /// ... and starts with, and boosts a large innovation by, at most this rate uncertainty: a
+  /// The turning model of the world orientation filter (WorldOrientationFilter) starts with,
+  /// and boosts a large innovation by, at most this rate uncertainty: a
   /// tool fixed to the patient turns in `world` only with the patient's slow motion, so a few
   /// bad measurements cannot set it turning (a real turn is gated, then restarts the filter).
   double world_rate_sigma_rad_per_s = 0.003;
@@ -48,6 +50,15 @@ struct ToolTrackerOptions {
   /// 0.42 -> 0.32 deg over 48 sessions; a tool that turns at 5 deg/s seen at 45 Hz is followed
   /// within 0.8 deg (docs/tracking.md 1, `tofnav track`).
   double world_accel_sigma_rad_per_s2 = 0.003;
+  /// Those two figures describe the tool while it turns with the patient. While it stands still
+  /// (most of the time) its orientation in `world` changes only by the headset's slow drift: a
+  /// second, still model at this rate and acceleration (0.0003 rad/s: a degree a minute) is
+  /// mixed with the turning one by how well each predicts (WorldOrientationFilter: still for
+  /// world_still_dwell_s, turning for world_turning_dwell_s on average). 0: the turning model
+  /// alone.
+  double world_still_sigma_rad_per_s = 0.0003;
+  double world_still_dwell_s = 60.0;
+  double world_turning_dwell_s = 2.0;
   /// With the camera's world pose over the last camera_motion_baseline_s, a world-fixed tool
   /// moves in `ahat` at the apparent speed v the camera's motion gives it; the head's wander is
   /// smooth (sinusoids up to ~0.45 Hz), so its apparent acceleration is about this bandwidth times
@@ -130,11 +141,11 @@ class ToolTracker {
   std::vector<ToolGeometry> tools_;
   std::vector<Eigen::Vector3d> centroid_in_tool_;  // per tool: its markers' centroid
   ToolTrackerOptions options_;
-  std::vector<PoseFilter> filters_;                   // ahat_from_tool
-  std::vector<PoseFilter> world_filters_;             // world_from_tool, for the orientation
-  std::vector<WorldPositionFilter> world_positions_;  // the markers' centroid in `world`
-  RigJitterEstimate rig_jitter_;                      // one rig pose per frame: shared
-  std::vector<std::optional<Rigid3d>> last_pose_;     // last raw pose (prior when unfiltered)
+  std::vector<PoseFilter> filters_;                    // ahat_from_tool
+  std::vector<WorldOrientationFilter> world_filters_;  // world_from_tool's orientation
+  std::vector<WorldPositionFilter> world_positions_;   // the markers' centroid in `world`
+  RigJitterEstimate rig_jitter_;                       // one rig pose per frame: shared
+  std::vector<std::optional<Rigid3d>> last_pose_;      // last raw pose (prior when unfiltered)
   std::vector<double> last_seen_s_;
   std::vector<int> missed_;
   std::deque<std::pair<double, Rigid3d>> camera_poses_;  // (time, world_from_ahat), newest last
