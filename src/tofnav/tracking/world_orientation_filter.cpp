@@ -77,11 +77,11 @@ WorldOrientationUpdate WorldOrientationFilter::Update(const Eigen::Quaterniond& 
   const double leave_still = -std::expm1(-dt / options_.still_dwell_s);
   const double leave_turning = -std::expm1(-dt / options_.turning_dwell_s);
   const double p[2][2] = {{1.0 - leave_still, leave_still}, {leave_turning, 1.0 - leave_turning}};
-  std::array<double, 2> predicted_probability{0.0, 0.0};
+  std::array<double, 2> predicted_probability{0.0, 1.0};  // the turning model alone
   std::array<Model, 2> mixed = model_;
-  for (int j = first; j < 2; ++j) {
-    for (int i = first; i < 2; ++i) predicted_probability[j] += p[i][j] * probability_[i];
-    if (first == kTurning) break;
+  for (int j = 0; j < 2 && first == kStill; ++j) {
+    predicted_probability[j] =
+        p[kStill][j] * probability_[kStill] + p[kTurning][j] * probability_[kTurning];
     const Eigen::Quaterniond& base = model_[j].rotation;
     std::array<double, 2> w{};
     std::array<Eigen::Vector3d, 2> offset;
@@ -101,7 +101,6 @@ WorldOrientationUpdate WorldOrientationFilter::Update(const Eigen::Quaterniond& 
     }
     mixed[j] = {(FromRotationVector(mean) * base).normalized(), rate, cov};
   }
-  if (first == kTurning) predicted_probability = {0.0, 1.0};
   // Prediction and innovation per model.
   const double r = variance_scale * options_.rotation_sigma_rad * options_.rotation_sigma_rad;
   const double accel[2] = {options_.still_sigma_rad_per_s, options_.turning_accel_sigma_rad_per_s2};
