@@ -13,6 +13,8 @@ nlohmann::ordered_json ConsensusToJson(const IdentifyConsensusResult& runs) {
   const DepthErrorModel& kept = runs.Kept().file.model;
   out["kept_run"] = runs.kept;
   out["identified_again"] = runs.identified_again;
+  out["restarted_from_least_cost"] = runs.restarted;
+  out["restart_kept"] = runs.restart_kept;
   out["runs"] = nlohmann::ordered_json::array();
   for (std::size_t i = 0; i <= runs.subsets.size(); ++i) {
     const DepthErrorModel& m = runs.Run(i).file.model;
@@ -47,6 +49,12 @@ void PrintConsensus(const IdentifyConsensusResult& runs) {
     std::cout << "    " << runs.identified_again.size()
               << " run(s) identified again from the best run's first placement of the skin (their "
                  "own lay in another basin: docs/correction.md 2.13)\n";
+  }
+  if (!runs.restarted.empty()) {
+    std::cout << "    " << runs.restarted.size()
+              << " run(s) in another minimum identified again from the least-cost run's model, "
+              << runs.restart_kept.size()
+              << " of them kept the new answer (docs/correction.md 2.14)\n";
   }
 }
 

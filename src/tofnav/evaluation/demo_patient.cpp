@@ -159,6 +159,8 @@ DemoJson IdentificationStability(const DemoContext& ctx, const AhatRecording& re
                     {"C4_mm", m.c4_mm},
                     {"cyclic_error", CyclicErrorToJson(m.cyclic)},
                     {"C1_change_mm", m.c1_mm - full.c1_mm},
+                    {"final_cost_mm2", models[k + 1].report.final_cost},
+                    {"frames_used", models[k + 1].report.frames_used},
                     {"C1_at_theta0_ab130_change_mm", c1_origin_change_mm},
                     {"head_after_median_change_mm", head_change_mm}});
   }
@@ -178,6 +180,9 @@ DemoJson IdentificationStability(const DemoContext& ctx, const AhatRecording& re
                                                 : "without frame k with k % 10 == " +
                                                       std::to_string(runs.kept - 1)},
                         {"kept_run", runs.kept},
+                        {"identified_again", runs.identified_again},
+                        {"restarted_from_least_cost", runs.restarted},
+                        {"restart_kept", runs.restart_kept},
                         {"max_C1_change_mm", jack.max_c1_change_mm},
                         {"max_head_after_median_change_mm", max_consensus_head_mm}};
   }
@@ -234,6 +239,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
       {"C4_mm", m.c4_mm},
       {"cyclic_error", CyclicErrorToJson(m.cyclic)},
       {"costs", m.report.costs},
+      {"final_cost_mm2", m.report.final_cost},
       {"multipath_removed", m.multipath.enabled},
       {"frames", m.report.frames_used},
       {"frames_left_out", m.report.frames_left_out},

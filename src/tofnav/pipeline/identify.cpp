@@ -226,6 +226,13 @@ IdentifyRecordingResult IdentifyFromRecording(
         {"start model", false,
          options.start.WithReferences(model.theta_reference_rad, model.ab_reference).c1_mm}};
     AppendSubsetStarts(frames, options, starts, result.placement_candidates);
+    if (options.joint_start) {
+      starts.push_back(*options.joint_start);
+      result.placement_candidates.push_back(
+          {"another run's model", false,
+           options.joint_start->WithReferences(model.theta_reference_rad, model.ab_reference)
+               .c1_mm});
+    }
     for (std::size_t k = 0; k < options.placement_guesses.size(); ++k)
       result.placement_candidates.push_back({"another run's placement", false, model.c1_mm});
     BestStartPlacement placement =
@@ -243,7 +250,8 @@ IdentifyRecordingResult IdentifyFromRecording(
     result.icp_inlier_fraction = pose.registration.icp.inlier_fraction;
     result.placed_through_tool = pose.through_tool;
     result.placement = MergedPlacement{pose.image_from_merged, pose.through_tool};
-    model = IdentifyDepthModel(frames, &target, model, options.identification);
+    model = IdentifyDepthModel(frames, &target, options.joint_start.value_or(model),
+                               options.identification);
     model.report.seconds += stage1_s;
     if (options.cross_validate_folds >= 2) {
       model.report.cross_validation =

@@ -79,6 +79,10 @@ struct IdentifyRecordingOptions {
   /// docs/correction.md 2.13): each is refined by ICP from stage 1's ranges and competes with
   /// the starts' placements on the same figure.
   std::vector<MergedPlacement> placement_guesses;
+  /// Stage 2 starts from this model instead of stage 1's, and its ranges make one more first
+  /// placement (the consensus passes the run of least cost when runs end in minima far apart,
+  /// docs/correction.md 2.14). Unset: stage 1's model.
+  std::optional<DepthErrorModel> joint_start;
 };
 
 /// One candidate for the skin's first placement: the model whose ranges made it and how much of

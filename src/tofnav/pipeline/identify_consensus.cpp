@@ -98,6 +98,21 @@ BasinCheck CheckBasins(const std::vector<std::optional<MergedPlacement>>& placem
   return out;
 }
 
+MinimumCheck CheckMinima(const std::vector<DepthErrorModel>& models) {
+  if (models.empty()) throw std::invalid_argument("CheckMinima: no models");
+  const auto cost_per_frame = [](const DepthErrorModel& m) {
+    return m.report.final_cost / std::max(1, m.report.frames_used);
+  };
+  MinimumCheck out;
+  for (std::size_t i = 1; i < models.size(); ++i) {
+    if (cost_per_frame(models[i]) < cost_per_frame(models[out.best])) out.best = i;
+  }
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    if (ModelDistanceMm(models[i], models[out.best]) > kOtherMinimumMm) out.elsewhere.push_back(i);
+  }
+  return out;
+}
+
 IdentifyConsensusResult IdentifyWithConsensus(
     const AhatRecording& recording, const AhatCamera& camera,
     const std::optional<MarkerRangeModel>& marker_range, const SurfaceIndex* skin,
@@ -140,6 +155,24 @@ IdentifyConsensusResult IdentifyWithConsensus(
     for (const std::size_t i : basins.elsewhere) {
       (i == 0 ? out.full : out.subsets[i - 1]) = identify(i);
       out.identified_again.push_back(i);
+    }
+  }
+  // One minimum: a run that ended far from the least-cost run's model is identified again from
+  // it, and keeps the answer that costs less on its own frames (docs/correction.md 2.14).
+  const MinimumCheck minima = CheckMinima(out.Models());
+  if (!minima.elsewhere.empty()) {
+    const IdentifyRecordingResult& best = out.Run(minima.best);
+    run_options.joint_start = best.file.model;
+    run_options.placement_guesses.clear();
+    if (best.placement) run_options.placement_guesses = {*best.placement};
+    for (const std::size_t i : minima.elsewhere) {
+      IdentifyRecordingResult again = identify(i);
+      IdentifyRecordingResult& run = i == 0 ? out.full : out.subsets[i - 1];
+      out.restarted.push_back(i);
+      if (again.file.model.report.final_cost < run.file.model.report.final_cost) {
+        run = std::move(again);
+        out.restart_kept.push_back(i);
+      }
     }
   }
   out.kept = MedoidIndex(out.Models());

@@ -46,6 +46,20 @@ struct BasinCheck {
 BasinCheck CheckBasins(const std::vector<std::optional<MergedPlacement>>& placements,
                        const std::vector<double>& inlier_fractions);
 
+/// Which runs ended in another minimum than the run of least cost: `best` is the run with the
+/// least final Eq. (7) cost per frame used (the figure every run minimised; the first on a tie),
+/// `elsewhere` the runs whose model lies more than kOtherMinimumMm from it (ModelDistanceMm), in
+/// order. Runs of one minimum agree within about a millimetre, two nearby minima that one skin's
+/// data tilt between lie about 4 mm apart (docs/correction.md 2.9; the medoid decides there),
+/// and the wrong minimum of dark, far skin lies 18 mm away, 11 mm below in C1 (2.14). Throws
+/// std::invalid_argument when `models` is empty.
+struct MinimumCheck {
+  std::size_t best = 0;
+  std::vector<std::size_t> elsewhere;
+};
+inline constexpr double kOtherMinimumMm = 5.0;
+MinimumCheck CheckMinima(const std::vector<DepthErrorModel>& models);
+
 struct IdentifyConsensusResult {
   IdentifyRecordingResult full;                  // every picked frame
   std::vector<IdentifyRecordingResult> subsets;  // subset k leaves out picked frame j, j % 10 == k
@@ -53,6 +67,11 @@ struct IdentifyConsensusResult {
   /// Runs identified again with the best first placement among their candidates, because
   /// their own lay in another basin (docs/correction.md 2.13).
   std::vector<std::size_t> identified_again;
+  /// Runs identified again from the least-cost run's model because theirs lay in another
+  /// minimum (CheckMinima), and of them those whose new answer cost less and was kept
+  /// (docs/correction.md 2.14).
+  std::vector<std::size_t> restarted;
+  std::vector<std::size_t> restart_kept;
   /// Run i: 0 the full one, k + 1 subset k (throws std::out_of_range beyond them).
   const IdentifyRecordingResult& Run(std::size_t i) const;
   const IdentifyRecordingResult& Kept() const { return Run(kept); }
@@ -68,7 +87,11 @@ struct IdentifyConsensusResult {
 /// tie) and the subset a stability check only. Every run then starts from one basin: the first
 /// placement of the skin kept with the largest inlier fraction over the runs is offered to each
 /// run whose own placement differs from it (PlacementsDiffer), and that run is identified again.
-/// `progress(run, runs, done, total)`, run 0 the full one.
+/// Then every run whose model lies in another minimum than the least-cost run's (CheckMinima) is
+/// identified again with stage 2 started from that model (and its placement offered), and keeps
+/// whichever of its two answers costs less on its own frames: which minimum a run reaches then
+/// rests on the cost, not on which tenth it left out. `progress(run, runs, done, total)`, run 0
+/// the full one.
 IdentifyConsensusResult IdentifyWithConsensus(
     const AhatRecording& recording, const AhatCamera& camera,
     const std::optional<MarkerRangeModel>& marker_range, const SurfaceIndex* skin,

@@ -75,6 +75,38 @@ TEST(Consensus, TiesGoToTheFullRunAndAnEvenSplitIsUnstable) {
   EXPECT_THROW(MedoidIndex({}), std::invalid_argument);
 }
 
+DepthErrorModel Costed(double c1_mm, double c3_mm, double c4_mm, double cost_mm2, int frames) {
+  DepthErrorModel m = Model(c1_mm, c3_mm, c4_mm);
+  m.report.final_cost = cost_mm2;
+  m.report.frames_used = frames;
+  return m;
+}
+
+// Set 33's dark, far skin (docs/correction.md 2.14): four of six runs in a minimum 11 mm below
+// the other in C1, at five times its cost. The least cost per frame names the other minimum's
+// runs, whichever side has more of them.
+TEST(Consensus, RunsInAnotherMinimumThanTheLeastCostRunAreNamed) {
+  const std::vector<DepthErrorModel> runs{
+      Costed(-2.28, -13.3, -4.66, 1201.0, 79), Costed(8.79, 0.43, 1.37, 245.0, 71),
+      Costed(-2.03, -13.4, -4.53, 1100.0, 71), Costed(8.66, 0.59, 0.84, 230.0, 71),
+      Costed(-2.42, -13.2, -4.93, 1090.0, 71), Costed(-2.30, -13.1, -4.70, 1085.0, 71)};
+  const MinimumCheck check = CheckMinima(runs);
+  EXPECT_EQ(check.best, 3u);
+  EXPECT_EQ(check.elsewhere, (std::vector<std::size_t>{0, 2, 4, 5}));
+  // Nearby minima are left to the medoid: the ct-drops split of docs/correction.md 2.9 (C3 5.99
+  // against 2.18-2.27: the minima lie 3.9 mm apart), where the lower cost was the worse head.
+  const std::vector<DepthErrorModel> close{Costed(9.21, 5.99, 3.10, 255.8, 79),
+                                           Costed(8.76, 2.18, 3.78, 300.0, 71),
+                                           Costed(9.20, 5.97, 3.10, 232.0, 71)};
+  EXPECT_TRUE(CheckMinima(close).elsewhere.empty());
+  EXPECT_EQ(CheckMinima(close).best, 0u);  // 3.24 mm^2 a frame against 3.27 and 4.23
+  // The cost is compared per frame used: the full run's 79 frames cost more in sum, not per frame.
+  const std::vector<DepthErrorModel> per_frame{Costed(9.0, 1.0, 1.0, 790.0, 79),
+                                               Costed(9.1, 1.0, 1.0, 720.0, 71)};
+  EXPECT_EQ(CheckMinima(per_frame).best, 0u);
+  EXPECT_THROW(CheckMinima({}), std::invalid_argument);
+}
+
 // A placement of the skin through the tool: a rotation about the tool's z and a translation.
 MergedPlacement Placed(double angle_rad, double x_mm) {
   return {Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::UnitZ())),
