@@ -95,6 +95,7 @@ Report RegisterSurfaces(const std::filesystem::path& reconstruction_path,
   report.figures["effective_samples"] = q.effective_samples;
   report.figures["max_predicted_tre_mm"] = q.max_predicted_tre_mm;
   report.figures["icp_iterations"] = result.icp.iterations;
+  report.figures["icp_unsettled_mm"] = result.quality.unsettled_mm;
   report.figures["coarse_hypotheses"] = result.coarse.hypotheses;
   report.figures["reconstruction_points"] = reconstruction.size();
   report.figures["skin_points"] = skin_index.size();

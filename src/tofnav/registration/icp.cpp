@@ -315,6 +315,9 @@ IcpResult AlignPointToPlane(const Points3d& source_points, const Points3d& sourc
     const double gate_mm = std::max(
         options.max_distance_schedule_mm[static_cast<std::size_t>(level)], target.spacing_mm());
     level_converged = false;
+    result.out_of_iterations = false;  // the verdict weighs the last level's settling only
+    result.unsettled_rotation_rad = 0.0;
+    result.unsettled_translation_mm = 0.0;
     std::vector<Rigid3d> recent = {result.target_from_source};  // the last kCycle poses
     for (int iteration = 0; iteration < options.max_iterations_per_level; ++iteration) {
       Associate(points, normals, target, result.target_from_source, gate_mm, min_cos, matches);
@@ -356,6 +359,16 @@ IcpResult AlignPointToPlane(const Points3d& source_points, const Points3d& sourc
       if (iteration + 1 == options.max_iterations_per_level && recent.size() == kCycle &&
           std::all_of(recent.begin(), recent.end(), within(kSettledFactor))) {
         level_converged = true;
+      }
+      if (iteration + 1 == options.max_iterations_per_level && !level_converged) {
+        result.out_of_iterations = true;
+        for (const Rigid3d& other : recent) {
+          result.unsettled_rotation_rad = std::max(
+              result.unsettled_rotation_rad, RotationDistanceRad(result.target_from_source, other));
+          result.unsettled_translation_mm = std::max(
+              result.unsettled_translation_mm,
+              (result.target_from_source * source_centroid - other * source_centroid).norm());
+        }
       }
       if (recent.size() == kCycle) recent.erase(recent.begin());
       recent.push_back(result.target_from_source);

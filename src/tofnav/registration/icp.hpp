@@ -54,6 +54,12 @@ struct IcpResult {
   Rigid3d target_from_source;
   bool converged = false;  // the last level converged, with enough correspondences throughout
   int iterations = 0;      // over all levels
+  /// A level ran out of iterations (with enough correspondences): the pose still moved, by at
+  /// most these over its last 12 iterations (rotation; translation of the source centroid).
+  /// 0 when every level ended on a small step or a short cycle.
+  bool out_of_iterations = false;
+  double unsettled_rotation_rad = 0.0;
+  double unsettled_translation_mm = 0.0;
   /// At the final transform and the finest gate:
   int correspondences = 0;
   double inlier_fraction = 0.0;    // correspondences / source points

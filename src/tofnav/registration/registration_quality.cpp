@@ -16,6 +16,7 @@ namespace tofnav {
 namespace {
 
 constexpr double kSingular = 1e-12;  // relative eigenvalue below which J^T J is singular
+constexpr double kUnsettledLeverMm = 100.0;  // without targets: about a head's radius
 
 std::string Format(const char* format, double a, double b, double c = 0.0) {
   char text[256];
@@ -59,10 +60,13 @@ std::pair<RegistrationStatus, std::string> Decide(const IcpResult& icp,
                    "target): the surface is too symmetric or featureless to register",
                    q.ambiguity, limit, q.ambiguity_shift_mm)};
   }
-  if (!icp.converged) {
+  // Out of iterations but still by less than a tenth of the accepted TRE: settled for the plan.
+  const bool settled = icp.out_of_iterations && q.unsettled_mm <= t.max_unsettled_mm &&
+                       icp.correspondences >= 6;
+  if (!icp.converged && !settled) {
     return {S::kNotConverged, Format("ICP did not converge in %.0f iterations (inlier fraction "
-                                     "%.3f)",
-                                     icp.iterations, q.inlier_fraction)};
+                                     "%.3f; the pose still moved %.3f mm at a target)",
+                                     icp.iterations, q.inlier_fraction, q.unsettled_mm)};
   }
   if (q.max_predicted_tre_mm > t.max_predicted_tre_mm) {
     return {S::kHighPredictedTre, Format("predicted TRE %.3f mm at a target is above %.3f mm",
@@ -86,6 +90,7 @@ void RegistrationThresholds::Check() const {
   Require(min_rotation_conditioning >= 0.0 && min_translation_conditioning >= 0.0,
           "RegistrationThresholds.min_*_conditioning must be >= 0");
   Require(max_predicted_tre_mm > 0.0, "RegistrationThresholds.max_predicted_tre_mm must be > 0");
+  Require(max_unsettled_mm >= 0.0, "RegistrationThresholds.max_unsettled_mm must be >= 0");
   Require(correlation_length_mm > 0.0, "RegistrationThresholds.correlation_length_mm must be > 0");
   Require(max_ambiguity > 0.0, "RegistrationThresholds.max_ambiguity must be > 0");
   Require(ambiguity_z >= 0.0, "RegistrationThresholds.ambiguity_z must be >= 0");
@@ -152,6 +157,12 @@ RegistrationQuality AssessRegistration(const IcpResult& icp, const Points3d& sou
   q.predicted_tre_mm = PredictTre(icp, samples, targets_in_target);
   for (const double tre : q.predicted_tre_mm)
     q.max_predicted_tre_mm = std::max(q.max_predicted_tre_mm, tre);
+  if (icp.out_of_iterations) {  // rotation moves a target by its lever from the centroid
+    double lever_mm = targets_in_target.empty() ? kUnsettledLeverMm : 0.0;
+    for (const Eigen::Vector3d& p : targets_in_target)
+      lever_mm = std::max(lever_mm, (p - icp.centre_in_target).norm());
+    q.unsettled_mm = icp.unsettled_translation_mm + icp.unsettled_rotation_rad * lever_mm;
+  }
   std::tie(q.status, q.message) = Decide(icp, q, thresholds);
   return q;
 }

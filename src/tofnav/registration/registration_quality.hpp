@@ -22,6 +22,10 @@ struct RegistrationThresholds {
   double min_rotation_conditioning = 0.005;     // PoseConditioning::rotation (sphere: ~0)
   double min_translation_conditioning = 0.005;  // PoseConditioning::translation (plane: ~0)
   double max_predicted_tre_mm = 1.0;            // at every given target
+  /// An ICP that ran out of iterations counts as settled when its pose moved by at most this at
+  /// every target over its last iterations (a tenth of the largest predicted TRE accepted): more
+  /// iterations could not move the plan by anything the verdict weighs (docs/registration.md).
+  double max_unsettled_mm = 0.1;
   /// Robust cost of the chosen pose over that of the best distinct alternative (0 = a clear
   /// winner, 1 = another pose fits as well): the surface is ambiguous above this ratio or, with
   /// many independent samples, above the ratio at which the alternative's excess cost is still
@@ -61,6 +65,9 @@ struct RegistrationQuality {
   double ambiguity_shift_mm = 0.0;
   /// Independent samples of the fit: cells of correlation_length_mm occupied by the inliers.
   int effective_samples = 0;
+  /// When the ICP ran out of iterations: how far its pose still moved at the farthest target
+  /// (without targets, at conditioning_radius_mm from the centroid) [mm]; 0 otherwise.
+  double unsettled_mm = 0.0;
   bool accepted() const { return status == RegistrationStatus::kOk; }
 };
 

@@ -92,6 +92,28 @@ TEST(AssessRegistration, RefusesInOrderAndSaysWhy) {
             RegistrationStatus::kHighPredictedTre);
 }
 
+// An ICP out of iterations is settled when its pose still moves by less than a tenth of a
+// millimetre at the farthest target: translation plus rotation times the target's lever (60 mm).
+TEST(AssessRegistration, AnIcpOutOfIterationsCountsWhenItsPoseNoLongerMovesThePlan) {
+  Points3d sources;
+  IcpResult creeping = IsotropicFit(20, 4000.0, 0.3, sources);
+  creeping.converged = false;
+  creeping.out_of_iterations = true;
+  creeping.unsettled_translation_mm = 0.02;
+  creeping.unsettled_rotation_rad = 1e-3;  // 0.06 mm at 60 mm: 0.08 mm in all
+  const std::vector<Eigen::Vector3d> targets = {Eigen::Vector3d(0, 60, 0)};
+  const RegistrationQuality settled = AssessRegistration(creeping, sources, targets);
+  EXPECT_EQ(settled.status, RegistrationStatus::kOk);
+  EXPECT_NEAR(settled.unsettled_mm, 0.08, 1e-12);
+  creeping.unsettled_rotation_rad = 2e-3;  // 0.12 mm at the target: 0.14 in all
+  const RegistrationQuality moving = AssessRegistration(creeping, sources, targets);
+  EXPECT_EQ(moving.status, RegistrationStatus::kNotConverged);
+  EXPECT_NE(moving.message.find("still moved 0.140 mm at a target"), std::string::npos)
+      << moving.message;
+  // Without targets the lever is a head's radius, 100 mm.
+  EXPECT_NEAR(AssessRegistration(creeping, sources, {}).unsettled_mm, 0.22, 1e-12);
+}
+
 TEST(AmbiguityLimit, RisesWithTheIndependentSamples) {
   // A mean of squares over N independent samples has a relative standard error sqrt(2 / N): an
   // alternative is distinct when its cost exceeds the best's by 3 of them.
