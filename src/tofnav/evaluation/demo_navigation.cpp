@@ -128,6 +128,8 @@ void RunDemoRegistration(DemoContext& ctx, DemoJson& stage) {
   stage["ambiguity_shift_mm"] = q.ambiguity_shift_mm;
   stage["effective_samples"] = q.effective_samples;
   stage["max_predicted_tre_mm"] = q.max_predicted_tre_mm;
+  stage["icp_iterations"] = r.icp.iterations;
+  stage["icp_unsettled_mm"] = q.unsettled_mm;
   stage["tre_mm"] = tre_mm;
   stage["tre_max_mm"] = tre_max;
   stage["targets"] = per_target;

@@ -15,7 +15,7 @@
 namespace tofnav {
 namespace {
 
-constexpr double kSingular = 1e-12;  // relative eigenvalue below which J^T J is singular
+constexpr double kSingular = 1e-12;          // relative eigenvalue below which J^T J is singular
 constexpr double kUnsettledLeverMm = 100.0;  // without targets: about a head's radius
 
 std::string Format(const char* format, double a, double b, double c = 0.0) {
@@ -61,8 +61,8 @@ std::pair<RegistrationStatus, std::string> Decide(const IcpResult& icp,
                    q.ambiguity, limit, q.ambiguity_shift_mm)};
   }
   // Out of iterations but still by less than a tenth of the accepted TRE: settled for the plan.
-  const bool settled = icp.out_of_iterations && q.unsettled_mm <= t.max_unsettled_mm &&
-                       icp.correspondences >= 6;
+  const bool settled =
+      icp.out_of_iterations && q.unsettled_mm <= t.max_unsettled_mm && icp.correspondences >= 6;
   if (!icp.converged && !settled) {
     return {S::kNotConverged, Format("ICP did not converge in %.0f iterations (inlier fraction "
                                      "%.3f; the pose still moved %.3f mm at a target)",
