@@ -8,6 +8,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "tofnav/core/dense_solvers.hpp"
@@ -344,12 +345,17 @@ IcpResult AlignPointToPlane(const Points3d& source_points, const Points3d& sourc
       result.history.push_back(stats);
       // Converged when the step is tiny, or when the pose returns to one of the last few: a
       // point flipping between nearest neighbours makes a short cycle that never settles.
+      // How far the pose lies from another: rotation, and translation of the source centroid.
+      const auto moved = [&](const Rigid3d& other) {
+        return std::pair{
+            RotationDistanceRad(result.target_from_source, other),
+            (result.target_from_source * source_centroid - other * source_centroid).norm()};
+      };
       const auto within = [&](double factor) {
         return [&, factor](const Rigid3d& other) {
-          return RotationDistanceRad(result.target_from_source, other) <=
-                     factor * options.convergence_rotation_rad &&
-                 (result.target_from_source * source_centroid - other * source_centroid).norm() <=
-                     factor * options.convergence_translation_mm;
+          const auto [rotation_rad, translation_mm] = moved(other);
+          return rotation_rad <= factor * options.convergence_rotation_rad &&
+                 translation_mm <= factor * options.convergence_translation_mm;
         };
       };
       if (std::any_of(recent.begin(), recent.end(), within(1.0))) {
@@ -363,11 +369,10 @@ IcpResult AlignPointToPlane(const Points3d& source_points, const Points3d& sourc
       if (iteration + 1 == options.max_iterations_per_level && !level_converged) {
         result.out_of_iterations = true;
         for (const Rigid3d& other : recent) {
-          result.unsettled_rotation_rad = std::max(
-              result.unsettled_rotation_rad, RotationDistanceRad(result.target_from_source, other));
-          result.unsettled_translation_mm = std::max(
-              result.unsettled_translation_mm,
-              (result.target_from_source * source_centroid - other * source_centroid).norm());
+          const auto [rotation_rad, translation_mm] = moved(other);
+          result.unsettled_rotation_rad = std::max(result.unsettled_rotation_rad, rotation_rad);
+          result.unsettled_translation_mm =
+              std::max(result.unsettled_translation_mm, translation_mm);
         }
       }
       if (recent.size() == kCycle) recent.erase(recent.begin());

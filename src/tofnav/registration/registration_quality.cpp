@@ -61,8 +61,8 @@ std::pair<RegistrationStatus, std::string> Decide(const IcpResult& icp,
                    q.ambiguity, limit, q.ambiguity_shift_mm)};
   }
   // Out of iterations but still by less than a tenth of the accepted TRE: settled for the plan.
-  const bool settled =
-      icp.out_of_iterations && q.unsettled_mm <= t.max_unsettled_mm && icp.correspondences >= 6;
+  // (Too few correspondences were refused above.)
+  const bool settled = icp.out_of_iterations && q.unsettled_mm <= t.max_unsettled_mm;
   if (!icp.converged && !settled) {
     return {S::kNotConverged, Format("ICP did not converge in %.0f iterations (inlier fraction "
                                      "%.3f; the pose still moved %.3f mm at a target)",

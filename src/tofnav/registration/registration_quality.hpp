@@ -66,7 +66,7 @@ struct RegistrationQuality {
   /// Independent samples of the fit: cells of correlation_length_mm occupied by the inliers.
   int effective_samples = 0;
   /// When the ICP ran out of iterations: how far its pose still moved at the farthest target
-  /// (without targets, at conditioning_radius_mm from the centroid) [mm]; 0 otherwise.
+  /// (without targets, 100 mm from the centroid: about a head's radius) [mm]; 0 otherwise.
   double unsettled_mm = 0.0;
   bool accepted() const { return status == RegistrationStatus::kOk; }
 };
