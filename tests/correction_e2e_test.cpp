@@ -128,8 +128,10 @@ TEST(CorrectionE2e, ExactlyLinearBiasGivesTheTrueCoefficients) {
   // (per-pixel normals of the noisy range overestimate theta: C2 was 12 % and C3 6 % low).
   // C2 at 7 %: with the calibrated range noise (session 29, one bright pixel's sd growing as
   // range^1.5, docs/simulator.md 10.1) the stickers' far frames scatter more and C2 lands 5.8 %
-  // low (C1 3.8 %, C3 3.3 %); on the flat floor it was within 5 %.
-  constexpr double kC1RelTol = 0.05, kC2RelTol = 0.07, kC3RelTol = 0.05;
+  // low (C1 3.8 %, C3 3.3 %); on the flat floor it was within 5 %. C2 at 8 %: since session 56
+  // a sticker's points are its core pixels (docs/correction.md 2.15), fewer per sticker in the
+  // far frames, and C2 lands 7.8 % low (6.6 % with every pixel on the same simulation).
+  constexpr double kC1RelTol = 0.05, kC2RelTol = 0.08, kC3RelTol = 0.05;
   sim::Scenario scenario = sim::BuiltinScenario("head-identification");
   scenario.render = sim::ModelConsistentRenderOptions();
   // Exactly the paper's models: Eq. (3) on the skin and f_rf of the range alone (Eq. 1) on the

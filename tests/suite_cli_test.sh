@@ -111,8 +111,8 @@ grep -q "^tofnav evaluate suite: --stages: unknown stage 'trackign' (stages: mar
   exit 1
 }
 # A bad suite file is refused with the file and the JSON path of the bad key.
-refused() {  # refused NAME CASE_JSON PATTERN
-  printf '{"format": "tofnav-suite", "cases": [%s]}' "$2" >"$scratch/$1.json"
+refused_file() {  # refused_file NAME SUITE_JSON PATTERN
+  printf '%s' "$2" >"$scratch/$1.json"
   if "$tofnav" evaluate suite "$scratch/$1.json" --out "$scratch/bad" 2>"$scratch/err"; then
     echo "$1.json was accepted" >&2
     exit 1
@@ -122,8 +122,30 @@ refused() {  # refused NAME CASE_JSON PATTERN
     exit 1
   }
 }
+refused() {  # refused NAME CASE_JSON PATTERN
+  refused_file "$1" "$(printf '{"format": "tofnav-suite", "cases": [%s]}' "$2")" "$3"
+}
 refused bad '{"name": "a", "tools": "wands"}' '\$.cases\[0\].tools: unknown value .wands.'
 # The multipath quadrature of a case: a stride outside the simulator's range.
 refused bad_stride '{"name": "a", "multipath_stride_px": 200}' \
   '\$.cases\[0\].multipath_stride_px: must lie in \[1, 128\] px'
+# "stage": "per_device" (the default): the cases of one device share one whole stage (the
+# built-in's 1800 frames), recorded once under stages/ and copied into each case's folder; a bad
+# "stage" value is refused.
+printf '{"format": "tofnav-suite", "name": "shared", "frames_scale": 0.05, "cases": [%s, %s]}' \
+  '{"name": "a", "seed": 3}' '{"name": "b", "seed": 4}' >"$scratch/shared.json"
+"$tofnav" evaluate suite "$scratch/shared.json" --stages marker_error --out "$scratch/shared" \
+  --json -q >"$scratch/shared_out.json"
+/usr/bin/python3 - "$scratch/shared_out.json" "$scratch/shared" <<'PY'
+import json, os, sys
+rows = json.load(open(sys.argv[1]))["rows"]
+stages = [r["stages"]["marker_error"] for r in rows]
+assert len(stages) == 2 and stages[0]["shared"] == stages[1]["shared"], stages
+assert all(s["frames"] == 1800 for s in stages), [s["frames"] for s in stages]
+assert os.listdir(os.path.join(sys.argv[2], "stages")) == [os.path.basename(stages[0]["shared"])]
+frf = [open(os.path.join(sys.argv[2], c, "frf.json")).read() for c in ("a", "b")]
+assert frf[0] == frf[1]
+PY
+refused_file bad_stage '{"format": "tofnav-suite", "stage": "per_run", "cases": [{"name": "a"}]}' \
+  '\$.stage: expected "per_device" or "per_case"'
 echo "suite_cli_test: ok"

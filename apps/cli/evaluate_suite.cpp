@@ -188,6 +188,11 @@ int RunEvaluateSuite(int argc, char** argv) {
                  "run only these stages and those they need (marker_error, session, depth, "
                  "reconstruction, registration, tracking, guidance; e.g. tracking: 20 s a run); "
                  "the rows' acceptance then has those stages' lines");
+  bool stage_per_case = false;
+  app.add_flag("--stage-per-case", stage_per_case,
+               "each case records its own f_rf stage (400 frames, its seed), as before session "
+               "56 and as a suite file's \"stage\": \"per_case\" asks; default: one whole "
+               "stage per device and seed, shared by the cases (docs/suite.md)");
   app.add_flag("--json", json, "print suite.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no per-case progress lines on stderr");
   std::string profile = "raw";
@@ -243,6 +248,10 @@ int RunEvaluateSuite(int argc, char** argv) {
       run_options.stream_profile = stream_profile;
       run_options.bitrate_bps = bitrate_bps;
       run_options.stability_subsets = stability_subsets;
+      if (suite.stage_per_device && !stage_per_case) {
+        run_options.stage_folder = out / "stages";
+        run_options.stage_seed = seed_offset + k + 1;
+      }
       SuiteJson row = RunSuiteCase(run, dir, run_options);
       row["name"] = label;
       row["case"] = c.name;

@@ -143,13 +143,30 @@ double MarkerCurvaturePerMm(const Points3d& points) {
   return std::abs(a.colPivHouseholderQr().solve(z)(3));
 }
 
-// The marker's Eq. (2)-corrected points, at most max_marker_points of its pixels.
+// The marker's core pixels: AB at or above sampling.marker_core_ab_fraction of its peak, as the
+// tracker's marker ranges and f_rf's stage take them; every pixel when fewer than 3 are.
+std::vector<Eigen::Vector2i> CorePixels(const MarkerArea& area, const AhatFrame& frame,
+                                        double fraction) {
+  double peak = 0.0;
+  for (const Eigen::Vector2i& px : area.pixels) {
+    peak = std::max(peak, static_cast<double>(frame.ab(px.x(), px.y())));
+  }
+  std::vector<Eigen::Vector2i> core;
+  for (const Eigen::Vector2i& px : area.pixels) {
+    if (frame.ab(px.x(), px.y()) >= fraction * peak) core.push_back(px);
+  }
+  return core.size() >= 3 ? core : area.pixels;
+}
+
+// The marker's Eq. (2)-corrected points, at most max_marker_points of its core pixels.
 Points3d MarkerPoints(const MarkerArea& area, const AhatFrame& frame, const AhatCamera& camera,
                       const MarkerRangeModel& marker_model,
                       const IdentificationSampling& sampling) {
+  const std::vector<Eigen::Vector2i> core =
+      CorePixels(area, frame, sampling.marker_core_ab_fraction);
   Points3d points;
-  for (int i : EvenSubsample(static_cast<int>(area.pixels.size()), sampling.max_marker_points)) {
-    const Eigen::Vector2i& px = area.pixels[static_cast<std::size_t>(i)];
+  for (int i : EvenSubsample(static_cast<int>(core.size()), sampling.max_marker_points)) {
+    const Eigen::Vector2i& px = core[static_cast<std::size_t>(i)];
     const Eigen::Vector3d ray = camera.PixelRay(px.x(), px.y()).cast<double>();
     points.push_back(ray * CorrectMarkerRange(frame.range_mm(px.x(), px.y()), marker_model));
   }
@@ -228,6 +245,9 @@ void IdentificationSampling::Check() const {
     throw std::invalid_argument(
         "IdentificationSampling: need marker_ring_px >= 1, min_marker_head_fraction in [0, 1] and "
         "max_sticker_curvature_per_mm > 0");
+  }
+  if (!(marker_core_ab_fraction >= 0.0 && marker_core_ab_fraction <= 1.0)) {
+    throw std::invalid_argument("IdentificationSampling: need marker_core_ab_fraction in [0, 1]");
   }
 }
 

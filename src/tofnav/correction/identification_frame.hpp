@@ -16,6 +16,7 @@
 #include "tofnav/correction/intensity_ab.hpp"
 #include "tofnav/correction/marker_range_model.hpp"
 #include "tofnav/correction/range_normals.hpp"
+#include "tofnav/markers/marker_detection.hpp"
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
 
@@ -59,7 +60,12 @@ struct IdentificationSampling {
   int min_patch_points = 40;      // fewer: the marker is left out of Err_S
   int max_patch_points = 160;     // evenly subsampled beyond
   int max_marker_points = 48;     // per marker
-  int max_head_points = 500;      // per frame, for the ICP
+  /// A sticker's points (Eq. 5 and 6) are its core pixels, AB >= this fraction of its peak
+  /// (dimensionless), as the tracker takes a marker's range and the stage measured f_rf
+  /// (docs/tracking.md 9.2): a rim pixel mixes the skin's light, long by the skin's own delay and
+  /// its multipath, into the sticker's (docs/correction.md 2.15). 0: every pixel.
+  double marker_core_ab_fraction = MarkerDetectionOptions{}.core_ab_fraction;
+  int max_head_points = 500;  // per frame, for the ICP
   /// Markers count (Eq. 5 and 6) only when at least this fraction of a ring marker_ring_px wide
   /// just outside their transitional band is head: stickers on the skin, not a tool's markers.
   int marker_ring_px = 3;

@@ -88,9 +88,58 @@ TEST(PrepareIdentificationFrame, LeavesOutASphereSeenAgainstTheSkin) {
   EXPECT_EQ(both.markers.size(), 2u);
 }
 
+// How far the sticker's points lie behind the skin, on average [mm] (+ = read long).
+double MeanDepthBehindSkin(const Scene& scene, const IdentificationFrame& frame) {
+  double sum = 0.0;
+  int count = 0;
+  for (const MarkerPatch& patch : frame.markers) {
+    for (const Eigen::Vector3d& p : patch.marker_points) {
+      if ((p - scene.sticker_centre).norm() > 10.0) continue;  // the sticker's, not the ball's
+      sum += testing::kHeadRadiusMm - (p - scene.head_centre).norm();
+      ++count;
+    }
+  }
+  return count > 0 ? sum / count : 1e9;
+}
+
+TEST(PrepareIdentificationFrame, TakesAStickersRangeFromItsCoreNotItsMixedRim) {
+  // The sticker's outer 2 mm is a rim of mixed pixels: dimmer (1500 counts against the core's
+  // 3000, under 0.7 of the peak) and 3 mm long, the skin's own delayed light mixed into the
+  // tape's. The core alone lies on the skin (1 mm range rounding averaged over its points:
+  // 0.3 mm); with the rim, the points read long by about 3 mm times the rim's share of them.
+  const Scene scene;
+  AhatFrame frame = MakeFrame(scene);
+  const AhatCamera& camera = testing::CorrectionCamera();
+  for (int v = 0; v < camera.height(); ++v) {
+    for (int u = 0; u < camera.width(); ++u) {
+      if (frame.range_mm(u, v) == 0) continue;
+      const Eigen::Vector3d p = camera.PixelRay(u, v).cast<double>() * frame.range_mm(u, v);
+      const double r = (p - scene.sticker_centre).norm();
+      if (r >= 4.0 && r < 6.0) {
+        frame.ab(u, v) = 1500;
+        frame.range_mm(u, v) = static_cast<std::uint16_t>(frame.range_mm(u, v) + 3);
+      }
+    }
+  }
+  IdentificationSampling sampling;
+  sampling.multipath.enabled = false;
+  sampling.segmentation.head_region.enabled = false;
+  const MarkerRangeModel exact;
+  const double core =
+      MeanDepthBehindSkin(scene, PrepareIdentificationFrame(frame, camera, exact, 0, sampling));
+  EXPECT_NEAR(core, 0.0, 0.3);
+  sampling.marker_core_ab_fraction = 0.0;  // every pixel of the sticker
+  const double all =
+      MeanDepthBehindSkin(scene, PrepareIdentificationFrame(frame, camera, exact, 0, sampling));
+  EXPECT_GT(all, 1.0);
+}
+
 TEST(PrepareIdentificationFrame, RefusesANonPositiveCurvatureLimit) {
   IdentificationSampling sampling;
   sampling.max_sticker_curvature_per_mm = 0.0;
+  EXPECT_THROW(sampling.Check(), std::invalid_argument);
+  sampling = {};
+  sampling.marker_core_ab_fraction = 1.5;
   EXPECT_THROW(sampling.Check(), std::invalid_argument);
 }
 

@@ -14,6 +14,7 @@
 #include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/evaluation/tracking_truth.hpp"
 #include "tofnav/io/file.hpp"
+#include "tofnav/io/json_bytes.hpp"
 #include "tofnav/pipeline/marker_tasks.hpp"
 #include "tofnav/pipeline/stage_cyclic_error.hpp"
 #include "tofnav/recording/open_recording.hpp"
@@ -119,13 +120,46 @@ MarkerSource OpenSimulatedMarkerSource(const std::filesystem::path& dir) {
   return source;
 }
 
+namespace {
+
+// The files of a stage that the case's folder keeps a copy of (and that a shared stage's folder
+// holds), beside stage.json and frf_range_only.json.
+constexpr const char* kStageFiles[] = {"frf.json", "frf_curve.csv", "stage_poses.csv"};
+
+// A shared stage (DemoContext::shared_stage) an earlier case recorded: its f_rf, the paper's
+// range-only f_rf and the plate's cyclic error into `ctx`, its report into `stage`, its files
+// copied into the case's folder. False when no case has recorded it yet (stage.json is written
+// last).
+bool LoadSharedStage(DemoContext& ctx, DemoJson& stage) {
+  const std::filesystem::path& dir = ctx.shared_stage;
+  if (!std::filesystem::exists(dir / "stage.json")) return false;
+  stage = ParseJsonBytes<DemoJson>(ReadFileBytes(dir / "stage.json"), dir / "stage.json");
+  stage["shared"] = std::filesystem::absolute(dir).string();
+  const MarkerRangeFile file = ReadMarkerRangeJson(dir / "frf.json");
+  ctx.frf = file.model;
+  if (file.cyclic_error) ctx.stage_cyclic = file.cyclic_error->cyclic;
+  ctx.range_only_frf = ReadMarkerRangeJson(dir / "frf_range_only.json").model;
+  for (const char* name : kStageFiles) {
+    std::filesystem::copy_file(dir / name, ctx.out / name,
+                               std::filesystem::copy_options::overwrite_existing);
+  }
+  return true;
+}
+
+}  // namespace
+
 void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
+  const bool shared = !ctx.shared_stage.empty();
+  if (shared && LoadSharedStage(ctx, stage)) return;
+  // A shared stage is recorded in its own folder, with its own seed; a case's own in the case's.
+  const std::filesystem::path home = shared ? ctx.shared_stage : ctx.out;
+  std::filesystem::create_directories(home);
   sim::Scenario scenario = sim::BuiltinScenario("marker-stage");
   if (ctx.vary_stage) ctx.vary_stage(scenario);
   const double stage_speed_mm_per_s = FitMarkerStageInto(scenario, ctx.stage_frames);
-  const std::filesystem::path dir = ctx.out / "stage";
+  const std::filesystem::path dir = home / "stage";
   SimulateOptions simulate;
-  simulate.seed = ctx.seed;
+  simulate.seed = shared ? ctx.shared_stage_seed : ctx.seed;
   simulate.profile = ctx.stream_profile;
   simulate.bitrate_bps = ctx.bitrate_bps;
   simulate.progress = [&](std::size_t d, std::size_t t) { ctx.progress("simulate stage", d, t); };
@@ -151,7 +185,7 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   std::ostringstream curve;
   curve << "range_mm,error_mm\n";
   for (double d = 250.0; d <= 750.0; d += 10.0) curve << d << ',' << fit.model.BiasMm(d) << '\n';
-  WriteFileAtomically(ctx.out / "frf_curve.csv", curve.str());
+  WriteFileAtomically(home / "frf_curve.csv", curve.str());
 
   // The bias the poses carry, against the truth: without f_rf, then with it (Eq. 2).
   const ToolTrackerOptions no_filter{.filter_enabled = false};
@@ -162,7 +196,7 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
     const std::vector<ToolPoseRecord> records = TrackTools(
         source, detection, {structure}, no_filter, with_frf ? fit.model : MarkerRangeModel{},
         [&](std::size_t d, std::size_t t) { ctx.progress("stage bias", d, t); });
-    if (with_frf) WriteToolPoses(ctx.out / "stage_poses.csv", records);
+    if (with_frf) WriteToolPoses(home / "stage_poses.csv", records);
     if (with_frf) frf_poses = records;
     const std::vector<ToolTruthEvaluation> e =
         EvaluateTrackingAgainstTruth(records, dir / "truth.json");
@@ -170,7 +204,7 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
     bins[with_frf] = BiasBins(e.at(0).evaluation);
   }
   frf_file.cyclic_error = StageCyclicError(ctx, source, frf_poses, structure, scenario, stage);
-  WriteMarkerRangeJson(ctx.out / "frf.json", frf_file);
+  WriteMarkerRangeJson(home / "frf.json", frf_file);
   stage["frames"] = simulated.frames;
   stage["runs"] = samples.runs.size();
   stage["samples"] = samples.samples.size();
@@ -185,6 +219,12 @@ void RunDemoMarkerError(DemoContext& ctx, DemoJson& stage) {
   stage["curve_csv"] = "frf_curve.csv";
   stage["acceptance"] =
       DemoJson::array({Acceptance("bias_after_max_abs_mm", bias_mm[1], "<=", 0.2)});  // issue 4
+  if (!shared) return;
+  // Every case, this one included, takes the stage as the files hold it.
+  WriteMarkerRangeJson(home / "frf_range_only.json", {*ctx.range_only_frf, {}, std::nullopt});
+  stage["recording"] = (dir / "rm_depth_ahat.bin").string();
+  WriteFileAtomically(home / "stage.json", stage.dump(2) + "\n");
+  LoadSharedStage(ctx, stage);
 }
 
 }  // namespace tofnav

@@ -34,7 +34,12 @@ struct DemoContext {
   std::string head;  // "phantom" or "ct:<volume>"
   std::uint64_t seed = 1;
   bool quiet = false;
-  std::int64_t stage_frames = 400;       // marker-stage recording (four runs)
+  std::int64_t stage_frames = 400;  // marker-stage recording (four runs)
+  /// Non-empty: the stage is one calibration shared by several cases (the suite's, per device:
+  /// docs/suite.md), recorded once under this folder with `shared_stage_seed` and read from it
+  /// by every later case; empty: each case records its own under `out` with `seed`.
+  std::filesystem::path shared_stage;
+  std::uint64_t shared_stage_seed = 1;
   std::int64_t session_frames = 300;     // patient session (identification, reconstruction, nav)
   std::int64_t session_slot_stride = 1;  // every n-th slot of the session's motion is rendered
   int depth_eval_frames = 24;            // frames of the depth evaluation (ray cast truth labels)

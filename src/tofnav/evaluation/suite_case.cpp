@@ -5,10 +5,12 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <sstream>
 #include <stdexcept>
 
 #include "tofnav/core/require.hpp"
@@ -114,6 +116,24 @@ std::string RegistrationDecision(const SuiteJson& stage) {
   return "refused (" + stage.at("status").get<std::string>() + ")";
 }
 
+// The built-in marker stage whole: four runs of 400 mm at 40 mm/s, 45 Hz (the paper's protocol).
+constexpr std::int64_t kWholeStageFrames = 1800;
+
+// The folder of the stage a case shares with the cases of the same device and of the same render
+// settings the stage sees (multipath, noise), at one seed:
+// "<device>-g<gain>-s<stride>-n<exponent>-seed<seed>", the device's other characters than letters
+// and digits replaced by '_'.
+std::string SharedStageName(const SuiteCase& c, std::uint64_t seed) {
+  std::string device = c.device;
+  std::replace_if(
+      device.begin(), device.end(),
+      [](char ch) { return !std::isalnum(static_cast<unsigned char>(ch)); }, '_');
+  std::ostringstream name;
+  name << device << "-g" << c.multipath_gain << "-s" << c.multipath_stride_px << "-n"
+       << c.noise_floor_exponent << "-seed" << seed;
+  return name.str();
+}
+
 }  // namespace
 
 SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
@@ -152,6 +172,11 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
       }
     };
     ctx.vary_stage = camera;
+    if (!options.stage_folder.empty()) {
+      ctx.shared_stage = options.stage_folder / SharedStageName(c, options.stage_seed);
+      ctx.shared_stage_seed = options.stage_seed;
+      ctx.stage_frames = kWholeStageFrames;
+    }
     ctx.vary_session = [&](sim::Scenario& s) {
       camera(s);
       sim::ApplyVariation(c.variation, s);

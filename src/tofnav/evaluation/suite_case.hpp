@@ -44,6 +44,9 @@ struct SuiteCase {
 struct SuiteFile {
   std::string name;
   double frames_scale = 0.35;
+  /// "stage": "per_device" (the default): one whole f_rf stage per device and seed, shared by the
+  /// cases (SuiteRunOptions::stage_folder); "per_case": each case records its own, 400 frames.
+  bool stage_per_device = true;
   std::vector<SuiteCase> cases;
 };
 
@@ -68,6 +71,12 @@ struct SuiteRunOptions {
   /// The stages to run, prerequisites included (DemoStagesWithPrerequisites); empty: all. The
   /// row then carries them as "stages_run" and its acceptance only the lines of those stages.
   std::set<std::string> stages;
+  /// Non-empty: the f_rf stage is one calibration per device (and per render setting the stage
+  /// sees), recorded whole (the built-in stage's 1800 frames) under this folder with
+  /// `stage_seed` by the first case that needs it and read by the others, as a clinic calibrates
+  /// a headset's tape once (docs/suite.md); empty: each case records its own, shorter stage.
+  std::filesystem::path stage_folder;
+  std::uint64_t stage_seed = 1;
 };
 
 /// Simulates and runs the case's sessions through the whole pipeline under `dir` (the demo's

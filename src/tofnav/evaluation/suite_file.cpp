@@ -91,6 +91,12 @@ SuiteFile ParseSuite(const Json& json) {
   if (!(suite.frames_scale >= 0.05 && suite.frames_scale <= 20.0)) {
     Fail("$.frames_scale", "must lie in [0.05, 20]");
   }
+  std::string stage = "per_device";
+  top.Read("stage", stage);
+  if (stage != "per_device" && stage != "per_case") {
+    Fail("$.stage", "expected \"per_device\" or \"per_case\"");
+  }
+  suite.stage_per_device = stage == "per_device";
   SuiteCase defaults;
   if (const Json* d = top.Find("defaults")) {
     JsonFields in(*d, "$.defaults");
