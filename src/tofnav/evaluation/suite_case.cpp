@@ -16,6 +16,7 @@
 #include "tofnav/core/require.hpp"
 #include "tofnav/evaluation/demo_stages.hpp"
 #include "tofnav/recording/hl2ss_calibration.hpp"
+#include "tofnav/sim/scenario_builtins.hpp"
 #include "tofnav/volume/volume_io.hpp"
 
 namespace tofnav {
@@ -116,9 +117,6 @@ std::string RegistrationDecision(const SuiteJson& stage) {
   return "refused (" + stage.at("status").get<std::string>() + ")";
 }
 
-// The built-in marker stage whole: four runs of 400 mm at 40 mm/s, 45 Hz (the paper's protocol).
-constexpr std::int64_t kWholeStageFrames = 1800;
-
 // The folder of the stage a case shares with the cases of the same device and of the same render
 // settings the stage sees (multipath, noise), at one seed:
 // "<device>-g<gain>-s<stride>-n<exponent>-seed<seed>", the device's other characters than letters
@@ -175,7 +173,8 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
     if (!options.stage_folder.empty()) {
       ctx.shared_stage = options.stage_folder / SharedStageName(c, options.stage_seed);
       ctx.shared_stage_seed = options.stage_seed;
-      ctx.stage_frames = kWholeStageFrames;
+      // The built-in stage whole (its four runs at their own speed: the paper's protocol).
+      ctx.stage_frames = sim::BuiltinScenario("marker-stage").frames;
     }
     ctx.vary_session = [&](sim::Scenario& s) {
       camera(s);
