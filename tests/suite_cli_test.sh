@@ -47,7 +47,7 @@ PY
 # own folder, the per-case median and worst, and the page's spread table. A short run: the rows'
 # figures are checked above; here the bookkeeping.
 "$tofnav" evaluate suite smoke --seeds 2 --seed-offset 100 --frames-scale 0.05 --stability 2 \
-  --consensus \
+  --consensus --consensus-mean \
   --out "$scratch/seeds" --json -q >"$scratch/seeds.json" || true
 /usr/bin/python3 - "$scratch/seeds.json" "$scratch/seeds" <<'PY'
 import json, os, sys
@@ -67,6 +67,7 @@ if values:
 html = open(os.path.join(d, "suite.html")).read()
 assert "Spread over seeds" in html
 assert "Identification stability" in html and "consensus kept" in html
+assert "mean head change" in html
 # --stability 2 --consensus: each row carries its depth stage's stability figures, and the spread
 # their worst; the medoid of the three runs is kept, and its own stability is reported.
 for r in out["rows"]:
@@ -78,6 +79,13 @@ for r in out["rows"]:
         # is none when the full run was kept.
         if r["consensus_kept_run"] == 0:
             assert r["consensus_c1_mm"] == 0.0 and r["consensus_head_mm"] == 0.0, r
+        # --consensus-mean: the model kept is the runs' mean (docs/correction.md 2.16), the very
+        # coefficients its jackknife reports, and the mean's own stability is in the row.
+        depth = r["stages"]["depth"]
+        mean = depth["stability"]["consensus"]["mean"]
+        assert depth["model"]["consensus"] == "mean" and mean["kept"] is True, depth["model"]
+        assert depth["model"]["C1_mm"] == mean["C1_mm"], (depth["model"], mean)
+        assert r["consensus_mean_c1_mm"] >= 0.0 and r["consensus_mean_head_mm"] >= 0.0, r
 if all(r["ok"] for r in out["rows"]):
     assert s["stability_c1_mm"]["worst"] == max(r["stability_c1_mm"] for r in out["rows"]), s
 print("suite --seeds 2:", {k: s[k] for k in ["cases", "cases_meeting_every_line"]})
@@ -88,6 +96,12 @@ if "$tofnav" evaluate suite smoke --consensus --out "$scratch/bad" 2>"$scratch/e
   exit 1
 fi
 grep -q -- "--consensus needs --stability 2 or more" "$scratch/err"
+if "$tofnav" evaluate suite smoke --stability 2 --consensus-mean --out "$scratch/bad" \
+  2>"$scratch/err"; then
+  echo "--consensus-mean without --consensus was accepted" >&2
+  exit 1
+fi
+grep -q -- "--consensus-mean needs --consensus (the runs to average)" "$scratch/err"
 # --stages tracking: the marker stage, the session and the tracking only; the row's acceptance has
 # the tracking lines alone. An unknown stage is refused with the known ones.
 "$tofnav" evaluate suite smoke --stages tracking --frames-scale 0.05 --out "$scratch/stages" \

@@ -63,7 +63,8 @@ SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
   for (const char* key :
        {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm", "beyond_3mm_percent",
         "true_tre_mm", "entry_mm", "angle_deg", "stream_mbit_s", "wall_s", "stability_c1_mm",
-        "stability_head_mm", "consensus_c1_mm", "consensus_head_mm"}) {
+        "stability_head_mm", "consensus_c1_mm", "consensus_head_mm", "consensus_mean_c1_mm",
+        "consensus_mean_head_mm"}) {
     std::vector<double> values;
     for (const SuiteJson& r : rows) {
       if (r.contains(key) && r.at(key).is_number() && !std::isnan(r.at(key).get<double>())) {
@@ -184,6 +185,10 @@ int RunEvaluateSuite(int argc, char** argv) {
   app.add_flag("--consensus", consensus,
                "with --stability N >= 2: keep the medoid of the full identification and the N "
                "runs, not the full one (docs/correction.md 2.9)");
+  bool consensus_mean = false;
+  app.add_flag("--consensus-mean", consensus_mean,
+               "with --consensus: keep the runs' weighted mean, not their medoid (it moves less "
+               "when a run is left out; docs/correction.md 2.16); both are reported either way");
   app.add_option("--stages", stages,
                  "run only these stages and those they need (marker_error, session, depth, "
                  "reconstruction, registration, tracking, guidance; e.g. tracking: 20 s a run); "
@@ -206,7 +211,13 @@ int RunEvaluateSuite(int argc, char** argv) {
                  "the full run and those runs)\n";
     return EXIT_FAILURE;
   }
+  if (consensus_mean && !consensus) {
+    std::cerr
+        << "tofnav evaluate suite: --consensus-mean needs --consensus (the runs to average)\n";
+    return EXIT_FAILURE;
+  }
   run_options.consensus = consensus;
+  run_options.consensus_mean = consensus_mean;
   const Hl2ssStreamProfile stream_profile = *ParseHl2ssStreamProfile(profile);
   try {
     run_options.stages = DemoStagesWithPrerequisites(stages);

@@ -128,6 +128,10 @@ int RunIdentify(int argc, char** argv) {
         return v == "1" ? std::string("0 (off) or 2 to 10") : std::string();
       })
       ->check(CLI::Range(0, 10));
+  bool consensus_mean = false;
+  app.add_flag("--consensus-mean", consensus_mean,
+               "with --consensus: keep the runs' weighted mean, not their medoid (it moves less "
+               "when a run is left out; docs/correction.md 2.16)");
   app.add_option("--model", angle_term, "angle term: theta (paper), theta2, 1-cos");
   std::vector<double> start_values;
   app.add_option("--start", start_values,
@@ -196,6 +200,10 @@ int RunIdentify(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the result as JSON");
   TOFNAV_PARSE(app, argc, argv);
+  if (consensus_mean && consensus == 0) {
+    std::cerr << "tofnav identify: --consensus-mean needs --consensus K (2-10 runs to average)\n";
+    return EXIT_FAILURE;
+  }
   sampling.multipath.enabled = multipath == "on";
 
   const AhatCamera camera(ReadHl2ssCalibration(calibration_path, sample_offset));
@@ -259,7 +267,10 @@ int RunIdentify(int argc, char** argv) {
                                               static_cast<std::size_t>(count) * total);
                             });
   const IdentifyRecordingResult& result = runs.Kept();
-  const DepthModelFile& file = result.file;
+  // The medoid's file with the runs' mean coefficients when asked (docs/correction.md 2.16).
+  const bool mean_kept = consensus_mean && !runs.subsets.empty();
+  DepthModelFile file = result.file;
+  if (mean_kept) file.model = ConsensusMean(runs.Models());
   const nlohmann::ordered_json effective_options = EffectiveOptions(app);
   WriteDepthModelJson(out_path, file, &effective_options);
   nlohmann::ordered_json registration_report;
@@ -303,7 +314,7 @@ int RunIdentify(int argc, char** argv) {
                                       {"final_cost_mm2", m.report.final_cost},
                                       {"seconds", m.report.seconds},
                                       {"registration", registration_report},
-                                      {"consensus", ConsensusToJson(runs)},
+                                      {"consensus", ConsensusToJson(runs, mean_kept)},
                                       {"cross_validation", nlohmann::ordered_json::object()},
                                       {"out", out_path.string()}});
     for (const auto& [name, cost] : m.report.cross_validation) {
@@ -365,7 +376,7 @@ int RunIdentify(int argc, char** argv) {
   for (const auto& [name, cost] : m.report.cross_validation) {
     std::cout << "  held-out Err_S^2 " << name << ": " << cost << " mm^2\n";
   }
-  if (!runs.subsets.empty()) PrintConsensus(runs);
+  if (!runs.subsets.empty()) PrintConsensus(runs, mean_kept);
   std::cout << "wrote " << out_path.string() << "\n";
   return EXIT_SUCCESS;
 }

@@ -8,10 +8,11 @@
 
 namespace tofnav {
 
-/// The runs (each model's C1 at the kept one's references, C2-C4, final cost, distance to the
-/// kept) and the kept run's index; an empty object without subsets.
-nlohmann::ordered_json ConsensusToJson(const IdentifyConsensusResult& runs);
-/// The same as lines on stdout, the kept run starred.
-void PrintConsensus(const IdentifyConsensusResult& runs);
+/// The runs (each model's C1 at the medoid's references, C2-C4, final cost, distance to the
+/// medoid), the medoid's index and the runs' ConsensusMean (its coefficients, distance to the
+/// medoid, jackknife, and whether it was kept: `mean_kept`); an empty object without subsets.
+nlohmann::ordered_json ConsensusToJson(const IdentifyConsensusResult& runs, bool mean_kept);
+/// The same as lines on stdout, the kept model starred.
+void PrintConsensus(const IdentifyConsensusResult& runs, bool mean_kept);
 
 }  // namespace tofnav

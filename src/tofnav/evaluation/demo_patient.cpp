@@ -127,17 +127,18 @@ double HeadAfterMedianMm(const DemoContext& ctx, const AhatRecording& recording,
 // The runs without a tenth of the frames each (issue 40 item 2: C1 by at most 0.1 mm): how far
 // each coefficient moves from the full run's, and how far the head's corrected depth moves with
 // them (C1, C3 and C4 trade off: docs/correction.md 2.4). With the consensus, also how far the
-// medoid moves when one of its runs is left out (pipeline/identify_consensus.hpp). `used` is the
-// run whose model the stage kept, `used_head_mm` its head median.
+// medoid and the mean move when one of its runs is left out (pipeline/identify_consensus.hpp).
+// The stage kept run `used`'s model, or with `mean` the runs' ConsensusMean; `used_head_mm` is the
+// head median of the one kept.
 DemoJson IdentificationStability(const DemoContext& ctx, const AhatRecording& recording,
                                  const AhatCamera& camera, const IdentifyConsensusResult& runs,
-                                 std::size_t used, double used_head_mm) {
+                                 std::size_t used, bool mean, double used_head_mm) {
   constexpr double kC1LimitMm = 0.1;  // issue 40 item 2
   const std::vector<DepthErrorModel> models = runs.Models();
   std::vector<double> head_mm(models.size());
   for (std::size_t i = 0; i < models.size(); ++i) {
-    head_mm[i] =
-        i == used ? used_head_mm : HeadAfterMedianMm(ctx, recording, camera, runs.Run(i).file);
+    head_mm[i] = i == used && !mean ? used_head_mm
+                                    : HeadAfterMedianMm(ctx, recording, camera, runs.Run(i).file);
   }
   const DepthErrorModel& full = models.front();
   DemoJson list = DemoJson::array();
@@ -185,6 +186,27 @@ DemoJson IdentificationStability(const DemoContext& ctx, const AhatRecording& re
                         {"restart_kept", runs.restart_kept},
                         {"max_C1_change_mm", jack.max_c1_change_mm},
                         {"max_head_after_median_change_mm", max_consensus_head_mm}};
+    // The mean's own jackknife: its head median with every run and without each subset run,
+    // each model in the medoid's file (its f_rf and report), as the stage would keep it.
+    const auto head_with = [&](const DepthErrorModel& model) {
+      DepthModelFile f = runs.Run(runs.kept).file;
+      f.model = model;
+      return HeadAfterMedianMm(ctx, recording, camera, f);
+    };
+    const DepthErrorModel all = ConsensusMean(models);
+    const double all_head_mm = mean ? used_head_mm : head_with(all);
+    const ConsensusMeanJackknife mean_jack = JackknifeMean(models);
+    double max_mean_head_mm = 0.0;
+    for (const DepthErrorModel& without : mean_jack.without_run) {
+      max_mean_head_mm = std::max(max_mean_head_mm, std::abs(head_with(without) - all_head_mm));
+    }
+    out["consensus"]["mean"] = {{"kept", mean},
+                                {"C1_mm", all.c1_mm},
+                                {"C2", all.c2},
+                                {"C3_mm_per_rad", all.c3_mm},
+                                {"C4_mm", all.c4_mm},
+                                {"max_C1_change_mm", mean_jack.max_c1_change_mm},
+                                {"max_head_after_median_change_mm", max_mean_head_mm}};
   }
   return out;
 }
@@ -228,9 +250,13 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
       });
   const std::size_t used = ctx.consensus ? runs.kept : 0;
   const IdentifyRecordingResult& identified = runs.Run(used);
-  WriteDepthModelJson(ctx.out / "depth_model.json", identified.file);
-  ctx.depth_model = identified.file;
-  const DepthErrorModel& m = identified.file.model;
+  // The medoid's file with the runs' mean coefficients when asked (docs/correction.md 2.16).
+  const bool mean = ctx.consensus && ctx.consensus_mean;
+  DepthModelFile file = identified.file;
+  if (mean) file.model = ConsensusMean(runs.Models());
+  WriteDepthModelJson(ctx.out / "depth_model.json", file);
+  ctx.depth_model = file;
+  const DepthErrorModel& m = file.model;
   stage["model"] = {
       {"name", m.Name()},
       {"C1_mm", m.c1_mm},
@@ -250,11 +276,14 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
       {"frames_with_reference_tool", identified.frames_with_reference_tool},
       {"frames_reference_rotation_smoothed", identified.frames_reference_rotation_smoothed},
       {"seconds", m.report.seconds}};
-  if (ctx.consensus) stage["model"]["consensus_of_runs"] = runs.subsets.size() + 1;
+  if (ctx.consensus) {
+    stage["model"]["consensus_of_runs"] = runs.subsets.size() + 1;
+    stage["model"]["consensus"] = mean ? "mean" : "medoid";
+  }
   stage["depth_model_json"] = "depth_model.json";
 
   const DepthEvaluation e = EvaluateDepthAgainstTruth(
-      *s.recording, s.camera, ctx.session_dir, *ctx.session, identified.file, ctx.depth_eval_frames,
+      *s.recording, s.camera, ctx.session_dir, *ctx.session, file, ctx.depth_eval_frames,
       [&](std::size_t d, std::size_t t) { ctx.progress("evaluate depth", d, t); });
   stage["frames"] = e.frames;
   stage["objects"] = DemoJson::array();
@@ -278,7 +307,7 @@ void RunDemoDepth(DemoContext& ctx, DemoJson& stage) {
   }
   Require(head_error != nullptr, "no head pixel was evaluated");
   if (ctx.stability_subsets > 0) {
-    stage["stability"] = IdentificationStability(ctx, *s.recording, s.camera, runs, used,
+    stage["stability"] = IdentificationStability(ctx, *s.recording, s.camera, runs, used, mean,
                                                  head_error->after_mm->median);
   }
   const double lo = std::floor(std::min(Quantile(head_error->before_errors_mm, 0.005),

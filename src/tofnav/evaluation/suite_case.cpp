@@ -148,6 +148,7 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
   ctx.bitrate_bps = options.bitrate_bps;
   ctx.stability_subsets = options.stability_subsets;
   ctx.consensus = options.consensus;
+  ctx.consensus_mean = options.consensus_mean;
   ctx.method = options.method;
   ctx.stages = options.stages;
   if (!options.stages.empty()) row["stages_run"] = options.stages;
@@ -197,6 +198,9 @@ SuiteJson RunSuiteCase(const SuiteCase& c, const std::filesystem::path& dir,
         row["consensus_kept_run"] = Num(consensus, "kept_run");
         row["consensus_c1_mm"] = Num(consensus, "max_C1_change_mm");
         row["consensus_head_mm"] = Num(consensus, "max_head_after_median_change_mm");
+        const SuiteJson& mean = At(consensus, "mean");
+        row["consensus_mean_c1_mm"] = Num(mean, "max_C1_change_mm");
+        row["consensus_mean_head_mm"] = Num(mean, "max_head_after_median_change_mm");
       }
     }
     const SuiteJson& rec = At(stages, "reconstruction");

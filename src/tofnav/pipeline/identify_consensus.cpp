@@ -3,6 +3,7 @@
 #include "tofnav/pipeline/identify_consensus.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -28,6 +29,25 @@ std::size_t MedoidOf(const std::vector<DepthErrorModel>& models,
     }
   }
   return best;
+}
+
+// A model as the coordinates ModelDistanceMm measures: C1, C2 x 500 mm, C3, C4 and the cyclic
+// error's in-phase and quadrature amplitudes (all mm).
+using ModelPoint = std::array<double, 6>;
+
+ModelPoint PointOf(const DepthErrorModel& m) {
+  return {m.c1_mm,
+          m.c2 * kRangeTermAtMm,
+          m.c3_mm,
+          m.c4_mm,
+          m.cyclic.amplitude_mm * std::cos(m.cyclic.phase_rad),
+          m.cyclic.amplitude_mm * std::sin(m.cyclic.phase_rad)};
+}
+
+double SquaredDistance(const ModelPoint& a, const ModelPoint& b) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.size(); ++i) sum += (a[i] - b[i]) * (a[i] - b[i]);
+  return sum;
 }
 
 }  // namespace
@@ -66,6 +86,64 @@ ConsensusJackknife JackknifeMedoid(const std::vector<DepthErrorModel>& models) {
     out.kept_without_run.push_back(k);
     const double c1 = models[k].WithReferences(m.theta_reference_rad, m.ab_reference).c1_mm;
     out.max_c1_change_mm = std::max(out.max_c1_change_mm, std::abs(c1 - m.c1_mm));
+  }
+  return out;
+}
+
+DepthErrorModel ConsensusMean(const std::vector<DepthErrorModel>& models) {
+  const DepthErrorModel& medoid = models.at(MedoidIndex(models));
+  std::vector<ModelPoint> points;
+  bool same_period = true;
+  for (const DepthErrorModel& m : models) {
+    points.push_back(PointOf(m.WithReferences(medoid.theta_reference_rad, medoid.ab_reference)));
+    same_period = same_period && m.cyclic.period_mm == medoid.cyclic.period_mm;
+  }
+  // Mean shift from the medoid: each step the weighted mean with the weights at the last centre.
+  // It converges to the nearest mode of the runs' Gaussian density; 1e-9 mm is far below any
+  // figure it feeds, and 200 steps far more than the few it takes (the runs lie within a scale).
+  constexpr double kConvergedMm = 1e-9;
+  constexpr int kMaxSteps = 200;
+  const double inv_two_s2 = 1.0 / (2.0 * kConsensusScaleMm * kConsensusScaleMm);
+  ModelPoint centre = PointOf(medoid);
+  for (int step = 0; step < kMaxSteps; ++step) {
+    ModelPoint next{};
+    double total = 0.0;
+    for (const ModelPoint& p : points) {
+      const double w = std::exp(-SquaredDistance(p, centre) * inv_two_s2);
+      total += w;
+      for (std::size_t i = 0; i < p.size(); ++i) next[i] += w * p[i];
+    }
+    // total > 0: the centre never leaves the runs (it starts on one and moves to weighted means).
+    for (double& v : next) v /= total;
+    const double moved = std::sqrt(SquaredDistance(next, centre));
+    centre = next;
+    if (moved < kConvergedMm) break;
+  }
+  DepthErrorModel out = medoid;
+  out.c1_mm = centre[0];
+  out.c2 = centre[1] / kRangeTermAtMm;
+  out.c3_mm = centre[2];
+  out.c4_mm = centre[3];
+  if (same_period && medoid.cyclic.amplitude_mm > 0.0) {
+    out.cyclic.amplitude_mm = std::hypot(centre[4], centre[5]);
+    out.cyclic.phase_rad = std::atan2(centre[5], centre[4]);
+  }
+  out.Check();
+  return out;
+}
+
+ConsensusMeanJackknife JackknifeMean(const std::vector<DepthErrorModel>& models) {
+  const DepthErrorModel all = ConsensusMean(models);
+  ConsensusMeanJackknife out;
+  for (std::size_t left = 1; left < models.size(); ++left) {
+    std::vector<DepthErrorModel> rest;
+    for (std::size_t i = 0; i < models.size(); ++i) {
+      if (i != left) rest.push_back(models[i]);
+    }
+    out.without_run.push_back(ConsensusMean(rest));
+    const double c1 =
+        out.without_run.back().WithReferences(all.theta_reference_rad, all.ab_reference).c1_mm;
+    out.max_c1_change_mm = std::max(out.max_c1_change_mm, std::abs(c1 - all.c1_mm));
   }
   return out;
 }

@@ -35,6 +35,28 @@ struct ConsensusJackknife {
 };
 ConsensusJackknife JackknifeMedoid(const std::vector<DepthErrorModel>& models);
 
+/// The consensus's soft centre (docs/correction.md 2.16): a Gaussian-weighted mean of the models,
+/// each re-expressed at the medoid's references, in the coordinates ModelDistanceMm measures
+/// (C1, C2 x 500 mm, C3, C4 and the cyclic error's two quadrature amplitudes), iterated from the
+/// medoid to the nearest mode (mean shift) with weights exp(-d^2 / (2 s^2)), d a model's distance
+/// from the centre and s = kConsensusScaleMm. Runs of one minimum scatter by tenths of a
+/// millimetre and count almost equally; a nearby minimum 4 mm away counts e^-8 as much. Unlike
+/// the medoid, which jumps from one run to another when a run is left out, the mean moves by about
+/// a run's offset over the number of runs. The form, references, multipath options and report are
+/// the medoid's; the cyclic error is averaged only when every run has the medoid's period (else
+/// the medoid's). Throws std::invalid_argument when `models` is empty.
+inline constexpr double kConsensusScaleMm = 1.0;
+DepthErrorModel ConsensusMean(const std::vector<DepthErrorModel>& models);
+
+/// The mean's own stability: each subset run (never the full one) left out in turn, the
+/// ConsensusMean of the rest (one model per subset run, in order), and the largest change of its
+/// C1 (at the mean of all's references) from the mean of all.
+struct ConsensusMeanJackknife {
+  double max_c1_change_mm = 0.0;
+  std::vector<DepthErrorModel> without_run;  // per subset run k: the mean without run k + 1
+};
+ConsensusMeanJackknife JackknifeMean(const std::vector<DepthErrorModel>& models);
+
 /// Which runs placed the skin first in another basin than the best one: `best` is the run whose
 /// first placement kept the largest inlier fraction (the figure each run chose its own by; the
 /// first on a tie, none without placements), `elsewhere` the runs whose placement differs from it

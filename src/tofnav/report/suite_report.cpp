@@ -83,7 +83,8 @@ std::string Limited(const Json& row, const char* figure, double limit) {
 
 // With --stability: per run, how far C1 and the head's corrected median move when a tenth of the
 // frames is left out (issue 40 item 2: 0.1 and 0.05 mm), and with --consensus the run kept and
-// how far the medoid moves when one of its runs is left out (docs/correction.md 2.9).
+// how far the medoid and the runs' mean move when one run is left out (docs/correction.md 2.9,
+// 2.16).
 std::string StabilityTable(const Json& rows) {
   constexpr double kC1LimitMm = 0.1, kHeadLimitMm = 0.05;
   std::vector<std::vector<std::string>> cells;
@@ -96,13 +97,16 @@ std::string StabilityTable(const Json& rows) {
                      : kept == 0.0    ? "the full run"
                                    : "without tenth " + std::to_string(static_cast<int>(kept) - 1),
                      Limited(row, "consensus_c1_mm", kC1LimitMm),
-                     Limited(row, "consensus_head_mm", kHeadLimitMm)});
+                     Limited(row, "consensus_head_mm", kHeadLimitMm),
+                     Limited(row, "consensus_mean_c1_mm", kC1LimitMm),
+                     Limited(row, "consensus_mean_head_mm", kHeadLimitMm)});
   }
   if (cells.empty()) return "";
   return "<h2>Identification stability (a tenth of the frames left out)</h2>\n" +
          report_internal::Table(
              {"case", "C1 change [mm]", "head median change [mm]", "consensus kept",
-              "consensus C1 change [mm]", "consensus head change [mm]"},
+              "medoid C1 change [mm]", "medoid head change [mm]", "mean C1 change [mm]",
+              "mean head change [mm]"},
              cells);
 }
 
