@@ -47,7 +47,7 @@ PY
 # own folder, the per-case median and worst, and the page's spread table. A short run: the rows'
 # figures are checked above; here the bookkeeping.
 "$tofnav" evaluate suite smoke --seeds 2 --seed-offset 100 --frames-scale 0.05 --stability 2 \
-  --consensus --consensus-mean \
+  --consensus \
   --out "$scratch/seeds" --json -q >"$scratch/seeds.json" || true
 /usr/bin/python3 - "$scratch/seeds.json" "$scratch/seeds" <<'PY'
 import json, os, sys
@@ -79,7 +79,7 @@ for r in out["rows"]:
         # is none when the full run was kept.
         if r["consensus_kept_run"] == 0:
             assert r["consensus_c1_mm"] == 0.0 and r["consensus_head_mm"] == 0.0, r
-        # --consensus-mean: the model kept is the runs' mean (docs/correction.md 2.16), the very
+        # --consensus keeps the runs' mean by default (docs/correction.md 2.16), the very
         # coefficients its jackknife reports, and the mean's own stability is in the row.
         depth = r["stages"]["depth"]
         mean = depth["stability"]["consensus"]["mean"]
@@ -96,12 +96,12 @@ if "$tofnav" evaluate suite smoke --consensus --out "$scratch/bad" 2>"$scratch/e
   exit 1
 fi
 grep -q -- "--consensus needs --stability 2 or more" "$scratch/err"
-if "$tofnav" evaluate suite smoke --stability 2 --consensus-mean --out "$scratch/bad" \
+if "$tofnav" evaluate suite smoke --stability 2 --consensus-medoid --out "$scratch/bad" \
   2>"$scratch/err"; then
-  echo "--consensus-mean without --consensus was accepted" >&2
+  echo "--consensus-medoid without --consensus was accepted" >&2
   exit 1
 fi
-grep -q -- "--consensus-mean needs --consensus (the runs to average)" "$scratch/err"
+grep -q -- "--consensus-medoid needs --consensus (the runs to choose from)" "$scratch/err"
 # --stages tracking: the marker stage, the session and the tracking only; the row's acceptance has
 # the tracking lines alone. An unknown stage is refused with the known ones.
 "$tofnav" evaluate suite smoke --stages tracking --frames-scale 0.05 --out "$scratch/stages" \

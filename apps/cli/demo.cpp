@@ -64,12 +64,13 @@ int RunDemo(int argc, char** argv) {
       ->check(CLI::Range(0, 10));
   bool consensus = false;
   app.add_flag("--consensus", consensus,
-               "with --stability N >= 2: keep the medoid of the full identification and the N "
-               "runs, not the full one (docs/correction.md 2.9)");
-  bool consensus_mean = false;
-  app.add_flag("--consensus-mean", consensus_mean,
-               "with --consensus: keep the runs' weighted mean, not their medoid (it moves less "
-               "when a run is left out; docs/correction.md 2.16); both are reported either way");
+               "with --stability N >= 2: keep the consensus of the full identification and the "
+               "N runs (their weighted mean; docs/correction.md 2.9, 2.16), not the full one");
+  bool consensus_medoid = false;
+  app.add_flag("--consensus-medoid", consensus_medoid,
+               "with --consensus: keep the runs' medoid, not their weighted mean (the default "
+               "since session 58: the mean moves less when a run is left out; "
+               "docs/correction.md 2.16); both are reported either way");
   std::string method = "tofnav";
   app.add_option("--method", method,
                  "tofnav, paper (the paper's method as published, docs/paper_method.md) or both "
@@ -84,15 +85,15 @@ int RunDemo(int argc, char** argv) {
                  "run and those runs)\n";
     return EXIT_FAILURE;
   }
-  if (consensus_mean && !consensus) {
-    std::cerr << "tofnav demo: --consensus-mean needs --consensus (the runs to average)\n";
+  if (consensus_medoid && !consensus) {
+    std::cerr << "tofnav demo: --consensus-medoid needs --consensus (the runs to choose from)\n";
     return EXIT_FAILURE;
   }
 
   DemoContext ctx;
   ctx.stability_subsets = stability_subsets;
   ctx.consensus = consensus;
-  ctx.consensus_mean = consensus_mean;
+  ctx.consensus_mean = !consensus_medoid;
   ctx.method = method == "paper" ? Method::kPaper : Method::kTofnav;
   ctx.out = out;
   ctx.seed = seed;

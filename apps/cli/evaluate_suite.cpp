@@ -183,12 +183,13 @@ int RunEvaluateSuite(int argc, char** argv) {
       ->check(CLI::Range(0, 10));
   bool consensus = false;
   app.add_flag("--consensus", consensus,
-               "with --stability N >= 2: keep the medoid of the full identification and the N "
-               "runs, not the full one (docs/correction.md 2.9)");
-  bool consensus_mean = false;
-  app.add_flag("--consensus-mean", consensus_mean,
-               "with --consensus: keep the runs' weighted mean, not their medoid (it moves less "
-               "when a run is left out; docs/correction.md 2.16); both are reported either way");
+               "with --stability N >= 2: keep the consensus of the full identification and the "
+               "N runs (their weighted mean; docs/correction.md 2.9, 2.16), not the full one");
+  bool consensus_medoid = false;
+  app.add_flag("--consensus-medoid", consensus_medoid,
+               "with --consensus: keep the runs' medoid, not their weighted mean (the default "
+               "since session 58: the mean moves less when a run is left out; "
+               "docs/correction.md 2.16); both are reported either way");
   app.add_option("--stages", stages,
                  "run only these stages and those they need (marker_error, session, depth, "
                  "reconstruction, registration, tracking, guidance; e.g. tracking: 20 s a run); "
@@ -211,13 +212,13 @@ int RunEvaluateSuite(int argc, char** argv) {
                  "the full run and those runs)\n";
     return EXIT_FAILURE;
   }
-  if (consensus_mean && !consensus) {
-    std::cerr
-        << "tofnav evaluate suite: --consensus-mean needs --consensus (the runs to average)\n";
+  if (consensus_medoid && !consensus) {
+    std::cerr << "tofnav evaluate suite: --consensus-medoid needs --consensus (the runs to "
+                 "choose from)\n";
     return EXIT_FAILURE;
   }
   run_options.consensus = consensus;
-  run_options.consensus_mean = consensus_mean;
+  run_options.consensus_mean = !consensus_medoid;
   const Hl2ssStreamProfile stream_profile = *ParseHl2ssStreamProfile(profile);
   try {
     run_options.stages = DemoStagesWithPrerequisites(stages);

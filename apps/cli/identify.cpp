@@ -122,16 +122,16 @@ int RunIdentify(int argc, char** argv) {
   int consensus = 0;
   app.add_option("--consensus", consensus,
                  "identify again K times (2-10; 0 = off), each without another tenth of the "
-                 "frames, and keep the medoid of the K + 1 models (docs/correction.md 2.9; K + 1 "
-                 "times as long)")
+                 "frames, and keep the weighted mean of the K + 1 models (docs/correction.md 2.9, "
+                 "2.16; K + 1 times as long)")
       ->check([](const std::string& v) {
         return v == "1" ? std::string("0 (off) or 2 to 10") : std::string();
       })
       ->check(CLI::Range(0, 10));
-  bool consensus_mean = false;
-  app.add_flag("--consensus-mean", consensus_mean,
-               "with --consensus: keep the runs' weighted mean, not their medoid (it moves less "
-               "when a run is left out; docs/correction.md 2.16)");
+  bool consensus_medoid = false;
+  app.add_flag("--consensus-medoid", consensus_medoid,
+               "with --consensus: keep the runs' medoid, not their weighted mean (the default: "
+               "the mean moves less when a run is left out; docs/correction.md 2.16)");
   app.add_option("--model", angle_term, "angle term: theta (paper), theta2, 1-cos");
   std::vector<double> start_values;
   app.add_option("--start", start_values,
@@ -200,8 +200,9 @@ int RunIdentify(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "no progress bar");
   app.add_flag("--json", json, "print the result as JSON");
   TOFNAV_PARSE(app, argc, argv);
-  if (consensus_mean && consensus == 0) {
-    std::cerr << "tofnav identify: --consensus-mean needs --consensus K (2-10 runs to average)\n";
+  if (consensus_medoid && consensus == 0) {
+    std::cerr << "tofnav identify: --consensus-medoid needs --consensus K (2-10 runs to choose "
+                 "from)\n";
     return EXIT_FAILURE;
   }
   sampling.multipath.enabled = multipath == "on";
@@ -268,7 +269,7 @@ int RunIdentify(int argc, char** argv) {
                             });
   const IdentifyRecordingResult& result = runs.Kept();
   // The medoid's file with the runs' mean coefficients when asked (docs/correction.md 2.16).
-  const bool mean_kept = consensus_mean && !runs.subsets.empty();
+  const bool mean_kept = !consensus_medoid && !runs.subsets.empty();
   DepthModelFile file = result.file;
   if (mean_kept) file.model = ConsensusMean(runs.Models());
   const nlohmann::ordered_json effective_options = EffectiveOptions(app);

@@ -49,9 +49,10 @@ struct DemoContext {
   /// With stability_subsets >= 2: the model kept is the medoid of the full run and those runs
   /// (pipeline/identify_consensus.hpp), not the full run's; its own stability is reported too.
   bool consensus = false;
-  /// With consensus: the model kept is the runs' ConsensusMean (docs/correction.md 2.16), not
-  /// their medoid. Either way both are reported, each with its own stability.
-  bool consensus_mean = false;
+  /// With consensus: the model kept is the runs' ConsensusMean (docs/correction.md 2.16); false
+  /// keeps their medoid (`--consensus-medoid`). Either way both are reported, each with its own
+  /// stability.
+  bool consensus_mean = true;
   /// The method of the stages after the session: tofnav's, or the paper's as published
   /// (pipeline/paper_method.hpp; its registration starts from a seeded hand placement).
   Method method = Method::kTofnav;

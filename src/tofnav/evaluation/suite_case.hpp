@@ -67,7 +67,7 @@ struct SuiteRunOptions {
   /// With stability_subsets >= 2: the medoid of the runs is the model (DemoContext::consensus);
   /// its own stability goes in the row as consensus_c1_mm and consensus_head_mm.
   bool consensus = false;
-  bool consensus_mean = false;      // DemoContext::consensus_mean
+  bool consensus_mean = true;       // DemoContext::consensus_mean
   Method method = Method::kTofnav;  // the stages after the session: tofnav's or the paper's
   /// The stages to run, prerequisites included (DemoStagesWithPrerequisites); empty: all. The
   /// row then carries them as "stages_run" and its acceptance only the lines of those stages.
