@@ -68,6 +68,12 @@ html = open(os.path.join(d, "suite.html")).read()
 assert "Spread over seeds" in html
 assert "Identification stability" in html and "consensus kept" in html
 assert "mean head change" in html
+# The tracking RMS's range over the seeds beside what its own sampling error would span
+# (docs/statistics.md): both figures in the spread and on the page.
+assert "expected from sampling" in html
+if all(r["ok"] and r.get("tracking_mm_se") is not None for r in out["rows"]):
+    assert all(r["tracking_mm_se"] > 0.0 for r in out["rows"]), [r["tracking_mm_se"] for r in out["rows"]]
+    assert s["tracking_mm_sampling_range"] > 0.0, s
 # --stability 2 --consensus: each row carries its depth stage's stability figures, and the spread
 # their worst; the medoid of the three runs is kept, and its own stability is reported.
 for r in out["rows"]:

@@ -20,8 +20,11 @@ using OrderedJson = nlohmann::ordered_json;
 OrderedJson StatsJson(const PoseErrorStats& s) {
   const Summary& mm = s.position_mm;
   const Summary& deg = s.rotation_deg;
-  return {{"count", mm.count}, {"median_mm", mm.median},   {"rms_mm", mm.rms},
-          {"max_mm", mm.max},  {"median_deg", deg.median}, {"rms_deg", deg.rms},
+  // rms_se_*: the RMS's sampling error over these frames (docs/statistics.md).
+  return {{"count", mm.count},  {"median_mm", mm.median},
+          {"rms_mm", mm.rms},   {"rms_se_mm", s.position_rms_se_mm},
+          {"max_mm", mm.max},   {"median_deg", deg.median},
+          {"rms_deg", deg.rms}, {"rms_se_deg", s.rotation_rms_se_deg},
           {"max_deg", deg.max}};
 }
 

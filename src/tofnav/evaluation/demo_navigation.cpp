@@ -207,6 +207,9 @@ void RunDemoTracking(DemoContext& ctx, DemoJson& stage) {
                               {"rotation_rms_deg", e.raw.rotation_deg.rms},
                               {"filtered_position_rms_mm", output.position_mm.rms},
                               {"filtered_rotation_rms_deg", output.rotation_deg.rms},
+                              // How far another run would put them (docs/statistics.md).
+                              {"filtered_position_rms_se_mm", output.position_rms_se_mm},
+                              {"filtered_rotation_rms_se_deg", output.rotation_rms_se_deg},
                               {"wrong_identities", e.wrong_identities}});
     if (!t.name.starts_with("reference")) continue;  // issue 4's lines are the reference tools'
     // Issue 4's lines on the tracker's output pose: the filtered one (orientation filtered in the

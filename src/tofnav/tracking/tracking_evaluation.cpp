@@ -4,17 +4,23 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <stdexcept>
 
+#include "tofnav/core/sampling_error.hpp"
 #include "tofnav/core/units.hpp"
 
 namespace tofnav {
 namespace {
 
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
 PoseErrorStats Stats(const std::vector<double>& mm, const std::vector<double>& deg) {
-  return {Summarise(mm), Summarise(deg)};
+  const bool enough = mm.size() >= 4;
+  return {Summarise(mm), Summarise(deg), enough ? RmsStandardError(mm) : kNan,
+          enough ? RmsStandardError(deg) : kNan};
 }
 
 // Pooled sqrt(trace(covariance)) of positions over runs: sum |p - mean_run|^2 / sum n_run.

@@ -40,6 +40,9 @@ struct TrackingEvaluationOptions {
 struct PoseErrorStats {
   Summary position_mm;   // translation error
   Summary rotation_deg;  // rotation angle error
+  /// Standard errors of the two RMS over the frames in record order (RmsStandardError: how far
+  /// another run of the same process would put them); NaN with fewer than 4 poses.
+  double position_rms_se_mm = 0.0, rotation_rms_se_deg = 0.0;
 };
 
 /// Mean signed range error |T_est m| - |T_true m| of the tool's marker centres, per bin of true
