@@ -47,7 +47,7 @@ PY
 # own folder, the per-case median and worst, and the page's spread table. A short run: the rows'
 # figures are checked above; here the bookkeeping.
 "$tofnav" evaluate suite smoke --seeds 2 --seed-offset 100 --frames-scale 0.05 --stability 2 \
-  --consensus \
+  --consensus --drop-truth-ranges \
   --out "$scratch/seeds" --json -q >"$scratch/seeds.json" || true
 /usr/bin/python3 - "$scratch/seeds.json" "$scratch/seeds" <<'PY'
 import json, os, sys
@@ -58,7 +58,12 @@ assert [r["seed"] for r in out["rows"]] == [105, 106], [r["seed"] for r in out["
 assert [r["name"] for r in out["rows"]] == ["phantom-spheres-bare-device@105",
                                            "phantom-spheres-bare-device@106"]
 for seed in (105, 106):
-    assert os.path.isdir(os.path.join(d, "phantom-spheres-bare-device", f"seed{seed}")), seed
+    run = os.path.join(d, "phantom-spheres-bare-device", f"seed{seed}")
+    assert os.path.isdir(run), seed
+    # --drop-truth-ranges: the session's true range images are gone once the row is made, the
+    # session's other files stay.
+    assert not os.path.exists(os.path.join(run, "session", "truth_range_f32.bin")), run
+    assert os.path.exists(os.path.join(run, "session", "truth.json")), run
 s = out["spread"]["phantom-spheres-bare-device"]
 assert s["cases"] == 2, s
 values = [r["tracking_mm"] for r in out["rows"] if r.get("tracking_mm") is not None]
