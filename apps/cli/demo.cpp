@@ -11,6 +11,7 @@
 
 #include "commands.hpp"
 #include "config_json.hpp"
+#include "consensus_option.hpp"
 #include "profile_option.hpp"
 #include "progress.hpp"
 #include "tofnav/evaluation/demo_stages.hpp"
@@ -62,15 +63,8 @@ int RunDemo(int argc, char** argv) {
                  "identify again N times (0-10), each without another tenth of the frames, and "
                  "report how far C1 moves (issue 40; about 25 s each)")
       ->check(CLI::Range(0, 10));
-  bool consensus = false;
-  app.add_flag("--consensus", consensus,
-               "with --stability N >= 2: keep the consensus of the full identification and the "
-               "N runs (their weighted mean; docs/correction.md 2.9, 2.16), not the full one");
-  bool consensus_medoid = false;
-  app.add_flag("--consensus-medoid", consensus_medoid,
-               "with --consensus: keep the runs' medoid, not their weighted mean (the default "
-               "since session 58: the mean moves less when a run is left out; "
-               "docs/correction.md 2.16); both are reported either way");
+  ConsensusFlags consensus;
+  AddConsensusOptions(app, consensus);
   std::string method = "tofnav";
   app.add_option("--method", method,
                  "tofnav, paper (the paper's method as published, docs/paper_method.md) or both "
@@ -80,20 +74,12 @@ int RunDemo(int argc, char** argv) {
   app.add_flag("--json", json, "print demo.json to stdout (nothing else on stdout)");
   app.add_flag("-q,--quiet", quiet, "no progress bars");
   TOFNAV_PARSE(app, argc, argv);
-  if (consensus && stability_subsets < 2) {
-    std::cerr << "tofnav demo: --consensus needs --stability 2 or more (the medoid of the full "
-                 "run and those runs)\n";
-    return EXIT_FAILURE;
-  }
-  if (consensus_medoid && !consensus) {
-    std::cerr << "tofnav demo: --consensus-medoid needs --consensus (the runs to choose from)\n";
-    return EXIT_FAILURE;
-  }
+  if (!CheckConsensusOptions(consensus, stability_subsets, "tofnav demo")) return EXIT_FAILURE;
 
   DemoContext ctx;
   ctx.stability_subsets = stability_subsets;
-  ctx.consensus = consensus;
-  ctx.consensus_mean = !consensus_medoid;
+  ctx.consensus = consensus.consensus;
+  ctx.consensus_mean = !consensus.medoid;
   ctx.method = method == "paper" ? Method::kPaper : Method::kTofnav;
   ctx.out = out;
   ctx.seed = seed;

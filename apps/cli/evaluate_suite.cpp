@@ -16,6 +16,7 @@
 #include <system_error>
 
 #include "config_json.hpp"
+#include "consensus_option.hpp"
 #include "evaluate.hpp"
 #include "method_option.hpp"
 #include "profile_option.hpp"
@@ -96,15 +97,8 @@ int RunEvaluateSuite(int argc, char** argv) {
                  "per case, identify again N times (0-10) without another tenth of the frames: "
                  "the largest C1 and head-median changes (docs/correction.md 2.4)")
       ->check(CLI::Range(0, 10));
-  bool consensus = false;
-  app.add_flag("--consensus", consensus,
-               "with --stability N >= 2: keep the consensus of the full identification and the "
-               "N runs (their weighted mean; docs/correction.md 2.9, 2.16), not the full one");
-  bool consensus_medoid = false;
-  app.add_flag("--consensus-medoid", consensus_medoid,
-               "with --consensus: keep the runs' medoid, not their weighted mean (the default "
-               "since session 58: the mean moves less when a run is left out; "
-               "docs/correction.md 2.16); both are reported either way");
+  ConsensusFlags consensus;
+  AddConsensusOptions(app, consensus);
   app.add_option("--stages", stages,
                  "run only these stages and those they need (marker_error, session, depth, "
                  "reconstruction, registration, tracking, guidance; e.g. tracking: 20 s a run); "
@@ -127,18 +121,10 @@ int RunEvaluateSuite(int argc, char** argv) {
   SuiteRunOptions run_options;
   AddMethodOption(app, run_options.method);
   TOFNAV_PARSE(app, argc, argv);
-  if (consensus && stability_subsets < 2) {
-    std::cerr << "tofnav evaluate suite: --consensus needs --stability 2 or more (the medoid of "
-                 "the full run and those runs)\n";
+  if (!CheckConsensusOptions(consensus, stability_subsets, "tofnav evaluate suite"))
     return EXIT_FAILURE;
-  }
-  if (consensus_medoid && !consensus) {
-    std::cerr << "tofnav evaluate suite: --consensus-medoid needs --consensus (the runs to "
-                 "choose from)\n";
-    return EXIT_FAILURE;
-  }
-  run_options.consensus = consensus;
-  run_options.consensus_mean = !consensus_medoid;
+  run_options.consensus = consensus.consensus;
+  run_options.consensus_mean = !consensus.medoid;
   const Hl2ssStreamProfile stream_profile = *ParseHl2ssStreamProfile(profile);
   try {
     run_options.stages = DemoStagesWithPrerequisites(stages);

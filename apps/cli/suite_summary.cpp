@@ -136,14 +136,9 @@ void PrintSpread(const SuiteJson& spread, std::size_t seeds) {
           s["tracking_mm"]["worst"].get<double>() - s["tracking_mm"]["best"].get<double>());
       range = text;
     }
-    std::string sampling = "-";
-    if (s.contains("tracking_mm_sampling_range")) {
-      char text[16];
-      std::snprintf(text, sizeof text, "%.3f", s["tracking_mm_sampling_range"].get<double>());
-      sampling = text;
-    }
     std::printf("%-24s %5s %11s %6s %6s %11s %11s %11s %11s %11s\n", name.c_str(), met.c_str(),
-                MedianWorst(s, "tracking_mm", 2).c_str(), range.c_str(), sampling.c_str(),
+                MedianWorst(s, "tracking_mm", 2).c_str(), range.c_str(),
+                Fixed(s, "tracking_mm_sampling_range", 3).c_str(),
                 MedianWorst(s, "reconstruction_mm", 3).c_str(),
                 MedianWorst(s, "beyond_3mm_percent", 2).c_str(),
                 MedianWorst(s, "true_tre_mm", 2).c_str(), MedianWorst(s, "entry_mm", 2).c_str(),
