@@ -5,6 +5,7 @@
 #include "tofnav/core/require.hpp"
 #include "tofnav/imaging/skin.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
+#include "tofnav/scenario/physical_skin.hpp"
 #include "tofnav/volume/volume_io.hpp"
 
 namespace tofnav {
@@ -29,8 +30,10 @@ sim::PatientHead LoadPatientHead(const std::string& spec, const std::filesystem:
     const std::filesystem::path path = base / spec.substr(kCt.size());
     SkinOptions options;
     options.decimation_cell_mm = kCtSkinDecimationMm;
-    SkinResult skin = ExtractSkin(ReadVolume(path), options);
-    return sim::MeshHead(std::move(skin.mesh), std::string(kCt) + path.string());
+    const SkinResult skin = ExtractSkin(ReadVolume(path), options);
+    // The patient is smooth where the image's iso-surface carries the image's noise
+    // (docs/simulator.md "The patient's skin").
+    return sim::MeshHead(SmoothPhysicalSkin(skin.mesh), std::string(kCt) + path.string());
   }
   Require(false, "head '" + spec + "': expected \"phantom\", \"mesh:<path>\" or \"ct:<path>\"");
   return {};

@@ -12,7 +12,8 @@ namespace tofnav {
 
 /// "phantom" (the built-in one, with `phantom` options), "mesh:<path>" (a closed skin mesh in CT
 /// LPS mm, upright) or "ct:<path>" (any volume ReadVolume reads: the skin is extracted with the
-/// CT defaults of ExtractSkin and the simulator writes that CT as the pre-operative image).
+/// CT defaults of ExtractSkin, the image's noise taken out of it by SmoothPhysicalSkin for the
+/// rendered patient, and the simulator writes that CT as the pre-operative image).
 /// Relative paths are taken from `base`. IoError for unreadable files, PreconditionError for a
 /// spec of none of these forms.
 sim::PatientHead LoadPatientHead(const std::string& spec, const std::filesystem::path& base = {},
