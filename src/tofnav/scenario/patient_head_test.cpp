@@ -5,9 +5,12 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
+#include <algorithm>
 
+#include "tofnav/imaging/skin.hpp"
 #include "tofnav/io/io_error.hpp"
 #include "tofnav/io/io_test_helpers.hpp"
+#include "tofnav/scenario/physical_skin.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
 #include "tofnav/sim/synthetic_ct.hpp"
 #include "tofnav/volume/volume_io.hpp"
@@ -64,6 +67,23 @@ TEST(LoadPatientHead, ACtHeadIsItsSkinAndTakesThePhantomsPlaceInBuiltins) {
       (head_centre_in_mount(with_ct, head) - head_centre_in_mount(with_phantom, phantom)).norm(),
       kSkinShiftTolMm);
   EXPECT_THROW(sim::BuiltinScenario("materials", &head), PreconditionError);
+}
+
+TEST(LoadPatientHead, ACtHeadIsRenderedWithoutTheImagesNoise) {
+  const testing::TempDir dir("ct_head_noise");
+  const std::filesystem::path path = WriteShiftedPhantomCt(dir.path(), Eigen::Vector3d::Zero());
+  const sim::PatientHead head = LoadPatientHead("ct:" + path.string());
+  SkinOptions options;
+  options.decimation_cell_mm = 1.0;  // as LoadPatientHead extracts it
+  const TriangleMesh iso = ExtractSkin(ReadVolume(path), options).mesh;
+  const TriangleMesh physical = SmoothPhysicalSkin(iso);
+  ASSERT_EQ(head.skin_in_image.vertices.size(), physical.vertices.size());
+  double largest_move_mm = 0.0;
+  for (std::size_t i = 0; i < physical.vertices.size(); ++i) {
+    EXPECT_EQ(head.skin_in_image.vertices[i], physical.vertices[i]) << i;
+    largest_move_mm = std::max(largest_move_mm, (physical.vertices[i] - iso.vertices[i]).norm());
+  }
+  EXPECT_GT(largest_move_mm, 0.0);  // the 3 mm voxels' steps are smoothed
 }
 
 TEST(LoadPatientHead, RefusesUnknownSpecs) {
