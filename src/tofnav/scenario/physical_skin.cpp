@@ -86,22 +86,21 @@ TriangleMesh SmoothPhysicalSkin(const TriangleMesh& iso_surface,
   options.Check();
   iso_surface.CheckConsistent();
   if (options.sigma_mm == 0.0 || iso_surface.vertices.empty()) return iso_surface;
-  TriangleMesh with_normals = iso_surface;
-  if (with_normals.vertex_normals.size() != with_normals.vertices.size()) {
-    with_normals.vertex_normals = with_normals.ComputeVertexNormals();
+  TriangleMesh smoothed = iso_surface;  // its vertices move only once every fit is made
+  if (smoothed.vertex_normals.size() != smoothed.vertices.size()) {
+    smoothed.vertex_normals = smoothed.ComputeVertexNormals();
   }
   // The index keeps every vertex with a normal, in order: a vertex without one (used by no
   // triangle, or degenerate) is not smoothed and not counted as a neighbour.
   Points3d points, normals;
   std::vector<std::size_t> indexed;  // mesh vertex of each index point
-  for (std::size_t i = 0; i < with_normals.vertices.size(); ++i) {
-    const Eigen::Vector3d& n = with_normals.vertex_normals[i];
+  for (std::size_t i = 0; i < smoothed.vertices.size(); ++i) {
+    const Eigen::Vector3d& n = smoothed.vertex_normals[i];
     if (!n.allFinite() || n.norm() < 0.5) continue;
-    points.push_back(with_normals.vertices[i]);
+    points.push_back(smoothed.vertices[i]);
     normals.push_back(n.normalized());
     indexed.push_back(i);
   }
-  TriangleMesh smoothed = with_normals;
   if (points.size() < static_cast<std::size_t>(kMinNeighbours)) return smoothed;
   const SurfaceIndex index(std::move(points), std::move(normals));
   Require(index.size() == indexed.size(), "SmoothPhysicalSkin: the index dropped vertices");
