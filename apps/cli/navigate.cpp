@@ -21,6 +21,7 @@
 #include "tofnav/casefile/marker_range_json.hpp"
 #include "tofnav/casefile/markups_read.hpp"
 #include "tofnav/casefile/tool_json.hpp"
+#include "tofnav/core/units.hpp"
 #include "tofnav/io/file.hpp"
 #include "tofnav/mesh/mesh_io.hpp"
 #include "tofnav/pipeline/navigation_csv.hpp"
@@ -123,7 +124,13 @@ int RunNavigation(int argc, char** argv, bool verify_only) {
   app.add_flag("--no-filter", no_filter,
                "place the plan on each frame's raw reference pose (no pose filter; "
                "docs/navigation.md 1)");
+  double settled_sd_deg = navigator_options.settled_rotation_sd_rad * kRadToDeg;
+  app.add_option("--settled-sd-deg", settled_sd_deg,
+                 "the reference is SETTLING until its filtered orientation's expected RMS error "
+                 "is at most this [deg] (docs/navigation.md 1)")
+      ->check(CLI::PositiveNumber);
   TOFNAV_PARSE(app, argc, argv);
+  navigator_options.settled_rotation_sd_rad = settled_sd_deg * kDegToRad;
   navigator_options.check_pose_jumps = !no_pose_check;
   navigator_options.tracking.filter_enabled = !no_filter;
   HeadsetDisplayOptions headset;
@@ -314,6 +321,8 @@ int RunNavigation(int argc, char** argv, bool verify_only) {
   if (stats.first_low_rate_s) {
     summary["first_low_rate_after_s"] = *stats.first_low_rate_s - stats.first_timestamp_s;
   }
+  summary["settling_frames"] = stats.settling_frames;
+  if (stats.settled_s) summary["settled_after_s"] = *stats.settled_s - stats.first_timestamp_s;
   if (server) {
     const IgtlServerStats s = server->stats();
     summary["igtl"] = {{"port", server->port()},
@@ -343,6 +352,12 @@ int RunNavigation(int argc, char** argv, bool verify_only) {
               << stats.holding << " holding, " << stats.reference_lost << " reference lost, "
               << stats.no_world_pose << " without head pose\n";
     PrintDropped(stats);
+    if (stats.settling_frames > 0) {
+      std::cout << stats.settling_frames
+                << " frames placed while the reference was SETTLING (its orientation not yet "
+                   "averaged to "
+                << settled_sd_deg << " deg)\n";
+    }
     if (stats.low_rate_frames > 0) {
       std::cout << stats.low_rate_frames
                 << " frames at LOW_RATE (under 15 Hz for over 1 s: the headset's camera throttles "

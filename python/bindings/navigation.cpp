@@ -102,6 +102,10 @@ void DefineState(py::module_& m) {
       .def_property_readonly("reference_status",
                              [](const S& s) { return ToString(s.reference_status); })
       .def_readonly("reference_age_s", &S::reference_age_s)
+      .def_readonly("reference_rotation_sd_rad", &S::reference_rotation_sd_rad,
+                    "expected RMS angle error of the placing reference orientation, or None")
+      .def_readonly("reference_settling", &S::reference_settling,
+                    "that error is above the settled limit (docs/navigation.md 1.2)")
       .def_readonly("detected_markers", &S::detected_markers)
       .def_property_readonly("ahat_from_tool",
                              [](const S& s) { return OptionalArrayFromRigid(s.ahat_from_tool); })

@@ -114,7 +114,10 @@ void DefineTracker(py::module_& m) {
                              [](const TrackedTool& t) { return t.measurement.noise_chi2; })
       .def_property_readonly("marker_detection",
                              [](const TrackedTool& t) { return t.measurement.marker_detection; })
-      .def_readonly("gated", &TrackedTool::gated);
+      .def_readonly("gated", &TrackedTool::gated)
+      .def_readonly("filtered_rotation_sd_rad", &TrackedTool::filtered_rotation_sd_rad,
+                    "expected RMS angle error of the filtered orientation, or None "
+                    "(docs/tracking.md 1)");
   py::class_<ToolTracker>(m, "ToolTracker", "tracks a fixed set of tools over frames (Sec. III-C)")
       .def(
           py::init([](std::vector<ToolGeometry> tools, bool filter_enabled, int max_missed_frames) {

@@ -21,6 +21,8 @@ def test_world_from_image_is_equation_eight(simulated):
     for i in range(recording.frame_count):
         frame = recording.read_frame(i)
         state = navigator.process(frame)
+        # Raw poses (the binding's default): no filter, so no claim about settling.
+        assert state.reference_rotation_sd_rad is None and not state.reference_settling
         assert state.status == "TRACKING" and state.reference_status == "ok"
         assert state.detected_markers == 6 and state.reference_age_s == 0.0
         true_pose = np.array(truth["frames"][i]["ahat_from_ref"])
@@ -34,6 +36,23 @@ def test_world_from_image_is_equation_eight(simulated):
         assert np.abs(placed.entry_in_world - (chain @ entry)[:3]).max() < CHAIN_TOL
         assert np.abs(placed.entry_in_tool - (TOOL_FROM_IMAGE @ entry)[:3]).max() < CHAIN_TOL
         assert state.guidance is None and state.instrument_status is None
+
+
+def test_a_filtered_reference_reports_how_far_it_has_settled(simulated):
+    out, _, truth = simulated
+    recording = tofnav.open_recording(out / "rm_depth_ahat.bin")
+    camera = tofnav.AhatCamera(tofnav.read_hl2ss_calibration(out / "calibration"))
+    navigator = tofnav.Navigator(
+        camera, tool_from_truth(truth, "ref"), TOOL_FROM_IMAGE, PLAN, filter_enabled=True
+    )
+    sds = []
+    for i in range(recording.frame_count):
+        state = navigator.process(recording.read_frame(i))
+        # The reference's expected orientation error: with every placed frame, SETTLING exactly
+        # while above the 0.35 deg default, shrinking as the filter averages the still board.
+        sds.append(state.reference_rotation_sd_rad)
+        assert sds[-1] > 0.0 and state.reference_settling == (sds[-1] > np.radians(0.35))
+    assert sds[-1] < sds[0]
 
 
 def test_status_holds_then_goes_stale_and_needs_a_world_pose(simulated):

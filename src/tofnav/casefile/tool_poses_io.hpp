@@ -29,6 +29,9 @@ struct ToolPoseRecord {
   /// Per-axis sds of the raw pose under the tracker's noise model (0 without one; JSON only).
   double rotation_sd_deg = 0.0;
   double position_sd_mm = 0.0;
+  /// The filtered orientation's expected RMS angle error (TrackedTool::filtered_rotation_sd_rad;
+  /// 0 without one; JSON only).
+  double filtered_rotation_sd_deg = 0.0;
   std::optional<Rigid3d> ahat_from_tool;           // raw measured pose
   std::optional<Rigid3d> filtered_ahat_from_tool;  // pose filter output (filter on, not gated)
   /// world_from_rig * rig_from_ahat * (filtered, else raw) ahat_from_tool, when the frame has a

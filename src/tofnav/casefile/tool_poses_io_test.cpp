@@ -21,6 +21,7 @@ std::vector<ToolPoseRecord> Records() {
   a.fre_mm = 0.123456789;
   a.rotation_sd_deg = 0.3125;
   a.position_sd_mm = 0.1 / 3.0;
+  a.filtered_rotation_sd_deg = 0.2 / 3.0;
   a.ahat_from_tool =
       Rigid3d(Eigen::Quaterniond(Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized())),
               Eigen::Vector3d(-12.5, 40.0 / 3.0, 456.789));
@@ -76,14 +77,17 @@ TEST(ToolPosesIo, JsonRoundTripsEveryFieldExactly) {
   ExpectSame(back, records);
   EXPECT_EQ(back[0].rotation_sd_deg, records[0].rotation_sd_deg);
   EXPECT_EQ(back[0].position_sd_mm, records[0].position_sd_mm);
+  EXPECT_EQ(back[0].filtered_rotation_sd_deg, records[0].filtered_rotation_sd_deg);
   // Files written before the sds existed still read (as 0).
   std::string old = EncodeToolPosesJson(records);
-  for (const std::string key : {"\"rotation_sd_deg\"", "\"position_sd_mm\""}) {
+  for (const std::string key :
+       {"\"rotation_sd_deg\"", "\"position_sd_mm\"", "\"filtered_rotation_sd_deg\""}) {
     const std::size_t at = old.find(key);
     ASSERT_NE(at, std::string::npos);
     old.erase(at, old.find('\n', at) + 1 - at);
   }
   EXPECT_EQ(DecodeToolPoses(old)[0].rotation_sd_deg, 0.0);
+  EXPECT_EQ(DecodeToolPoses(old)[0].filtered_rotation_sd_deg, 0.0);
 }
 
 TEST(ToolPosesIo, StatusNamesRoundTrip) {

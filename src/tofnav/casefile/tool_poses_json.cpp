@@ -116,6 +116,9 @@ std::vector<ToolPoseRecord> DecodeToolPosesJson(std::string_view text,
     r.fre_mm = GetDouble(j, "fre_mm", path);
     if (j.contains("rotation_sd_deg")) r.rotation_sd_deg = GetDouble(j, "rotation_sd_deg", path);
     if (j.contains("position_sd_mm")) r.position_sd_mm = GetDouble(j, "position_sd_mm", path);
+    if (j.contains("filtered_rotation_sd_deg")) {
+      r.filtered_rotation_sd_deg = GetDouble(j, "filtered_rotation_sd_deg", path);
+    }
     const OrderedJson& gated = Field(j, "gated", path);
     if (!gated.is_boolean()) throw IoError(path, std::nullopt, "\"gated\" must be true or false");
     r.gated = gated.get<bool>();
@@ -144,6 +147,7 @@ std::string EncodeToolPosesJson(std::span<const ToolPoseRecord> records) {
                     {"fre_mm", r.fre_mm},
                     {"rotation_sd_deg", r.rotation_sd_deg},
                     {"position_sd_mm", r.position_sd_mm},
+                    {"filtered_rotation_sd_deg", r.filtered_rotation_sd_deg},
                     {"gated", r.gated},
                     {"ahat_from_tool", PoseJson(r.ahat_from_tool)},
                     {"filtered_ahat_from_tool", PoseJson(r.filtered_ahat_from_tool)},

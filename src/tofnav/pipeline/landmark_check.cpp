@@ -63,7 +63,8 @@ LandmarkCheck::LandmarkCheck(std::vector<Landmark> landmarks, const Rigid3d& too
 }
 
 std::optional<LandmarkTouch> LandmarkCheck::Add(const NavigationState& state) {
-  if (done() || !state.tool_from_instrument) return std::nullopt;
+  // Not on a reference still SETTLING (docs/navigation.md 1.2): like a frame without the tool.
+  if (done() || !state.tool_from_instrument || state.reference_settling) return std::nullopt;
   const Eigen::Vector3d tip = image_from_tool_ * (*state.tool_from_instrument * tip_in_instrument_);
   if (!rest_.empty() && state.timestamp_s - rest_.back().t_s > options_.max_gap_s) rest_.clear();
   rest_.push_back({state.timestamp_s, tip});

@@ -69,7 +69,7 @@ class LandmarkCheck {
                 const Eigen::Vector3d& tip_in_instrument, const LandmarkCheckOptions& options = {});
 
   /// One frame; the touch it completes, if any. Frames without both tools measured
-  /// (tool_from_instrument) add nothing.
+  /// (tool_from_instrument), or with the reference still SETTLING, add nothing.
   std::optional<LandmarkTouch> Add(const NavigationState& state);
 
   bool done() const { return touches_.size() == landmarks_.size(); }

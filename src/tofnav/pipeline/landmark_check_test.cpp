@@ -131,6 +131,21 @@ TEST(LandmarkCheck, ShortRestsAndLostFramesAreNotTouches) {
   EXPECT_EQ(check.StatusLine(), "verify: touch nasion (1 of 3)");
 }
 
+// A rest taken while the reference is SETTLING (its orientation one frame's fit, docs/navigation.md
+// 1.2) is not a touch: the check judges the registration, not a reference still being averaged.
+TEST(LandmarkCheck, NoTouchWhileTheReferenceIsSettling) {
+  Pointer p(9);
+  p.RestAt(Landmarks()[0].in_image, 1.5);
+  LandmarkCheck check(Landmarks(), ToolFromImage(), kTip);
+  for (NavigationState s : p.frames) {
+    s.reference_settling = true;
+    EXPECT_FALSE(check.Add(s).has_value());
+  }
+  int touches = 0;
+  for (const NavigationState& s : p.frames) touches += check.Add(s) ? 1 : 0;  // the same, settled
+  EXPECT_EQ(touches, 1);
+}
+
 TEST(LandmarkCheck, AWrongLandmarkIsNamedAndFails) {
   Pointer p(9);
   p.RestAt(Landmarks()[1].in_image, 1.2);  // asked for the nasion, touched the right canthus

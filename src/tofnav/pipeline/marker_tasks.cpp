@@ -28,6 +28,9 @@ ToolPoseRecord Record(std::size_t index, const AhatFrame& frame, const ToolGeome
     r.position_sd_mm = tracked.measurement.position_sd_mm;
   }
   r.filtered_ahat_from_tool = tracked.filtered_ahat_from_tool;
+  if (tracked.filtered_rotation_sd_rad) {
+    r.filtered_rotation_sd_deg = *tracked.filtered_rotation_sd_rad * kRadToDeg;
+  }
   r.gated = tracked.gated;
   if (r.best_ahat_from_tool() && frame.world_from_rig) {
     r.world_from_tool = *frame.world_from_rig * rig_from_ahat * *r.best_ahat_from_tool();

@@ -18,7 +18,8 @@ std::string NavigationCsvHeader() {
          "world_from_image_qw,world_from_image_qx,world_from_image_qy,world_from_image_qz,"
          "trajectory,entry_world_x_mm,entry_world_y_mm,entry_world_z_mm,target_world_x_mm,"
          "target_world_y_mm,target_world_z_mm,instrument_status,tip_world_x_mm,tip_world_y_mm,"
-         "tip_world_z_mm,tip_to_entry_mm,angle_to_axis_deg,remaining_depth_mm,lateral_offset_mm\n";
+         "tip_world_z_mm,tip_to_entry_mm,angle_to_axis_deg,remaining_depth_mm,lateral_offset_mm,"
+         "reference_rotation_sd_deg,settling\n";
 }
 
 std::string NavigationCsvRow(const NavigationState& s, const std::vector<Trajectory>& plan) {
@@ -48,7 +49,11 @@ std::string NavigationCsvRow(const NavigationState& s, const std::vector<Traject
         g ? g->remaining_depth_mm : 0.0, g ? g->lateral_offset_mm : 0.0}) {
     row << ',' << (g ? std::to_string(v) : "");
   }
-  row << '\n';
+  row << ','
+      << (s.reference_rotation_sd_rad
+              ? std::to_string(*s.reference_rotation_sd_rad * 180.0 / std::numbers::pi)
+              : "")
+      << ',' << (s.reference_settling ? 1 : 0) << '\n';
   return row.str();
 }
 

@@ -40,6 +40,8 @@ void NavigatorOptions::Check() const {
   pose_jumps.Check();
   Require(std::isfinite(held_mean_span_s) && held_mean_span_s >= 0.0,
           "NavigatorOptions.held_mean_span_s must be >= 0");
+  Require(settled_rotation_sd_rad > 0.0,
+          "NavigatorOptions.settled_rotation_sd_rad must be > 0 (infinity: never settling)");
   Require(!instrument_axis_in_tool || instrument_axis_in_tool->norm() > 0.0,
           "NavigatorOptions.instrument_axis_in_tool must be non-zero");
 }
@@ -136,6 +138,7 @@ NavigationState Navigator::Place(double timestamp_s, const TrackingFrame& tracke
       // Eq. (8): world_from_image = world_from_rig * rig_from_ahat * ahat_from_tool *
       // tool_from_image
       held_world_from_image_ = world_from_tool * case_.tool_from_image;
+      held_rotation_sd_rad_ = reference.filtered_rotation_sd_rad;
       reference_seen_s_ = timestamp_s;
       fresh = true;
     }
@@ -151,6 +154,11 @@ NavigationState Navigator::Place(double timestamp_s, const TrackingFrame& tracke
     }
   }
   state.world_from_image = held_world_from_image_;
+  if (state.world_from_image) {
+    state.reference_rotation_sd_rad = held_rotation_sd_rad_;
+    state.reference_settling =
+        held_rotation_sd_rad_ && *held_rotation_sd_rad_ > options_.settled_rotation_sd_rad;
+  }
   if (state.ahat_from_tool) {
     state.status = world_from_rig ? NavigationStatus::kTracking : NavigationStatus::kNoWorldPose;
   } else {

@@ -41,6 +41,13 @@ struct NavigatorOptions {
   /// is this frame's pose, so that the instrument's guidance (same frame, same head pose) is
   /// free of the head tracking's jitter.
   double held_mean_span_s = 0.1;
+  /// The reference's pose is SETTLING while its filtered orientation's expected RMS error
+  /// (TrackedTool::filtered_rotation_sd_rad) exceeds this [rad]: 0.35 deg, the orientation the
+  /// suite holds a plate's tracking to. A plate's first track of a session starts from one
+  /// frame's fit (a far plate's 0.5 deg) and is averaged to this in a few frames; a plate back
+  /// from a gap starts from its orientation held in the world (docs/navigation.md, "A reference
+  /// that is still settling"). Infinity turns it off.
+  double settled_rotation_sd_rad = 0.35 * 3.14159265358979323846 / 180.0;
   /// Instrument axis in its own frame (towards the tip); nullopt: from the markers' centroid to
   /// the tip (a drill whose marker array sits on its shaft axis).
   std::optional<Eigen::Vector3d> instrument_axis_in_tool;
@@ -77,7 +84,12 @@ struct NavigationState {
   NavigationStatus status = NavigationStatus::kReferenceLost;
   ToolStatus reference_status = ToolStatus::kOutOfView;  // this frame's measurement
   double reference_age_s = 0.0;  // since the reference was last measured (infinity: never)
-  double stream_down_s = 0.0;    // kNoStream: since the last frame arrived
+  /// With world_from_image: the expected RMS angle error of the reference orientation it was
+  /// placed with (its last measured frame's; TrackedTool::filtered_rotation_sd_rad), and SETTLING:
+  /// that error is above NavigatorOptions::settled_rotation_sd_rad.
+  std::optional<double> reference_rotation_sd_rad;
+  bool reference_settling = false;
+  double stream_down_s = 0.0;  // kNoStream: since the last frame arrived
   /// Set by stream/ (RunNavigationSession): frames per second received over the last second, and
   /// LOW_RATE: every frame interval has been longer than 1/15 s for over 1 s (FrameRateMonitor).
   double received_rate_hz = 0.0;
@@ -137,6 +149,7 @@ class Navigator {
   int active_trajectory_ = 0;
   std::optional<double> reference_seen_s_;
   std::optional<Rigid3d> held_world_from_image_;
+  std::optional<double> held_rotation_sd_rad_;  // of the pose held_world_from_image_ came from
   PoseJumpGuard reference_guard_;
 };
 

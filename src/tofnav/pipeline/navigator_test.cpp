@@ -5,9 +5,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "matchers.hpp"
+#include "tofnav/core/units.hpp"
 
 namespace tofnav {
 namespace {
@@ -138,6 +140,38 @@ TEST(Navigator, AJumpedReferencePoseIsLeftOutAndTheHeldPoseIsTheRecentMean) {
   // The next good pose tracks again.
   EXPECT_EQ(nav.Place(21 / 45.0, Tracked(21 / 45.0, ahat_from_tool), world_from_rig, 4).status,
             NavigationStatus::kTracking);
+}
+
+// A reference whose orientation the filter has not yet averaged (a plate's first frames, its
+// filtered_rotation_sd_rad one frame's fit) places the plan and says SETTLING; the held picture
+// keeps the state of the pose it came from; an averaged one is settled; no sd, no claim either way.
+TEST(Navigator, AReferenceIsSettlingUntilItsOrientationIsAveraged) {
+  Navigator nav(Camera(), Case(false));
+  const Rigid3d world_from_rig = Turn(0.1, {0, 1, 0}, {0, 1600, 0});
+  const Rigid3d ahat_from_tool = Turn(3.0, {1, 0, 0}, {0, 0, 600});
+  const auto frame = [&](double t_s, std::optional<double> sd_deg) {
+    TrackingFrame f = Tracked(t_s, ahat_from_tool);
+    if (sd_deg) f.tools.front().filtered_rotation_sd_rad = *sd_deg * kDegToRad;
+    return f;
+  };
+  const NavigationState first = nav.Place(0.0, frame(0.0, 0.52), world_from_rig, 4);
+  EXPECT_EQ(first.status, NavigationStatus::kTracking);
+  ASSERT_TRUE(first.world_from_image && first.reference_rotation_sd_rad);
+  EXPECT_TRUE(first.reference_settling);
+  EXPECT_NEAR(*first.reference_rotation_sd_rad, 0.52 * kDegToRad, 1e-15);
+  const NavigationState held = nav.Place(0.05, Tracked(0.05, std::nullopt), world_from_rig, 0);
+  EXPECT_EQ(held.status, NavigationStatus::kHolding);
+  EXPECT_TRUE(held.reference_settling);
+  EXPECT_FALSE(nav.Place(0.2, frame(0.2, 0.34), world_from_rig, 4).reference_settling);
+  EXPECT_FALSE(nav.Place(0.3, frame(0.3, std::nullopt), world_from_rig, 4).reference_settling);
+  const NavigationState lost = nav.Place(1.0, Tracked(1.0, std::nullopt), world_from_rig, 0);
+  EXPECT_FALSE(lost.reference_settling || lost.reference_rotation_sd_rad);  // nothing placed
+  NavigatorOptions never;
+  never.settled_rotation_sd_rad = std::numeric_limits<double>::infinity();
+  Navigator off(Camera(), Case(false), never);
+  EXPECT_FALSE(off.Place(0.0, frame(0.0, 5.0), world_from_rig, 4).reference_settling);
+  never.settled_rotation_sd_rad = 0.0;
+  EXPECT_THROW(Navigator(Camera(), Case(false), never), PreconditionError);
 }
 
 TEST(Navigator, NoWorldPoseWithoutRigPose) {

@@ -75,7 +75,8 @@ void HeadsetDisplay::SpeakOnChange(const HeadsetScene& scene, const NavigationSt
       may_say(said_lost_at_)) {
     speech.emplace_back("reference lost");
   }
-  const GuidanceLevel level = scene.shown ? scene.level : GuidanceLevel::kNoGuidance;
+  const GuidanceLevel level =
+      scene.shown && !scene.settling ? scene.level : GuidanceLevel::kNoGuidance;
   if (level == GuidanceLevel::kOnTarget && last_level_ != GuidanceLevel::kOnTarget &&
       may_say(said_on_target_at_)) {
     speech.emplace_back("on target");

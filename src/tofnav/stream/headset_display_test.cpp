@@ -169,6 +169,33 @@ TEST(HeadsetDisplay, ColoursTextAndSpeechFollowTheInstrument) {
   EXPECT_NEAR(Slot(scene, 2).colour.r, 0.6f, 1e-6f);
 }
 
+// On target, but the reference is SETTLING (one frame's orientation, not yet averaged): the
+// guidance is grey, the panel says so, nothing is spoken; once settled it turns green and is said.
+TEST(HeadsetDisplay, ASettlingReferenceClaimsNothing) {
+  FakeRemoteSceneServer server;
+  HeadsetDisplay display(Plan(), Options(server));
+  const auto show = [&](const NavigationState& s) {
+    display.Update(s);
+    EXPECT_TRUE(display.WaitUntilHandled(kWait_s));
+    return server.scene();
+  };
+  NavigationState settling = Tracked(WorldFromImage(0.0, 0.0), Eigen::Vector3d::Zero());
+  settling.reference_rotation_sd_rad = 0.52 * std::numbers::pi / 180.0;
+  settling.reference_settling = true;
+  FakeRemoteScene scene = show(settling);
+  EXPECT_TRUE(Slot(scene, InstrumentTipSlot(2)).active);
+  EXPECT_NEAR(Slot(scene, InstrumentTipSlot(2)).colour.g, 0.6f, 1e-6f);  // grey, not green
+  EXPECT_NEAR(Slot(scene, 2).colour.g, 0.6f, 1e-6f);
+  EXPECT_EQ(Slot(scene, TextPanelSlot(2)).text.rfind("SETTLING 0.5 deg\n", 0), 0u);
+  EXPECT_TRUE(Words(scene).empty());
+  NavigationState settled = settling;
+  settled.reference_settling = false;
+  scene = show(settled);
+  EXPECT_GT(Slot(scene, InstrumentTipSlot(2)).colour.g, 0.8f);
+  EXPECT_EQ(Slot(scene, TextPanelSlot(2)).text.find("SETTLING"), std::string::npos);
+  EXPECT_EQ(Words(scene), (std::vector<std::string>{"on target"}));
+}
+
 TEST(HeadsetDisplay, HologramsHideWhenTheReferenceIsLostAndReturnOnlyFresh) {
   FakeRemoteSceneServer server;
   HeadsetDisplay display(Plan(), Options(server));

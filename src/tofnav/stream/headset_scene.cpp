@@ -58,6 +58,13 @@ std::string PanelText(const NavigationState& state, const std::vector<Trajectory
     std::snprintf(rate, sizeof rate, "LOW RATE %.0f Hz\n", state.received_rate_hz);
     text = rate + text;
   }
+  if (state.reference_settling && state.reference_rotation_sd_rad) {
+    // The reference's orientation is one frame's fit, not yet averaged (a plate's first second).
+    char settling[64];
+    std::snprintf(settling, sizeof settling, "SETTLING %.1f deg\n",
+                  *state.reference_rotation_sd_rad * kRadToDeg);
+    text = settling + text;
+  }
   // The liveness tick: the frame's time in quarter seconds, so the panel changes 4 times a second
   // while fresh poses arrive and a frozen scene is seen to be frozen (docs/navigation.md 6.3).
   char live[48];
@@ -108,12 +115,14 @@ HeadsetScene ComposeHeadsetScene(const NavigationState& state, const std::vector
   scene.holograms[InstrumentAxisSlot(n)].shape = HologramShape::kCylinder;
   scene.holograms[TextPanelSlot(n)].shape = HologramShape::kText;
   scene.level = LevelOf(state, options);
+  scene.settling = state.reference_settling;
   scene.shown = HeadsetPoseFresh(state, options.max_pose_age_s) && state.plan.size() == n;
   if (!scene.shown) return scene;
   scene.pose_age_s = state.reference_age_s;
 
   const auto active = static_cast<std::size_t>(state.active_trajectory);
-  const Rgba level_colour = LevelColour(scene.level);
+  // While the reference settles, no green: on-target is not claimed on an unaveraged pose.
+  const Rgba level_colour = scene.settling ? kGrey : LevelColour(scene.level);
   for (std::size_t i = 0; i < n; ++i) {
     if (i != active && !options.show_other_trajectories) continue;
     const PlacedTrajectory& t = state.plan[i];

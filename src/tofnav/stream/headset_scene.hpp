@@ -69,6 +69,9 @@ struct HeadsetScene {
   bool shown = false;       // placed from a reference pose no older than max_pose_age_s
   double pose_age_s = 0.0;  // the state's reference_age_s when shown
   GuidanceLevel level = GuidanceLevel::kNoGuidance;
+  /// The reference is SETTLING (NavigationState::reference_settling): the guidance is drawn grey
+  /// and "on target" is not said until its orientation has been averaged.
+  bool settling = false;
 };
 
 std::size_t HeadsetSlotCount(std::size_t trajectories);

@@ -94,6 +94,9 @@ std::string NavigationStatusLine(const NavigationState& s, const std::vector<Tra
   line += std::string(" ref=") + ToString(s.reference_status);
   line += std::isfinite(s.reference_age_s) ? Format(" age=%.0fms", s.reference_age_s * 1e3)
                                            : " age=never";
+  if (s.reference_settling && s.reference_rotation_sd_rad) {
+    line += Format(" SETTLING sd=%.2fdeg", *s.reference_rotation_sd_rad * 180.0 / std::numbers::pi);
+  }
   line += " markers=" + std::to_string(s.detected_markers);
   if (s.guidance) {
     const std::size_t i = static_cast<std::size_t>(s.active_trajectory);

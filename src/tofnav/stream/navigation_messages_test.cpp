@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <map>
+#include <numbers>
 
 #include "matchers.hpp"
 #include "tofnav/stream/igtl_receiver.hpp"
@@ -57,6 +58,19 @@ TEST(NavigationMessages, RasToWorldMapsSlicerRasOntoTheChain) {
   EXPECT_EQ(frames.at("RasToWorld").header.timestamp, IgtlTimestamp(12.5));
   EXPECT_EQ(DecodeIgtlStringContent(frames.at("NavigationStatus").content).rfind("TRACKING", 0),
             0u);
+}
+
+TEST(NavigationMessages, ASettlingReferenceSaysSoWithItsSd) {
+  NavigationState s = Tracking();
+  s.detected_markers = 4;
+  s.reference_rotation_sd_rad = 0.5236 * std::numbers::pi / 180.0;
+  s.reference_settling = true;
+  const auto frames = Decode(EncodeNavigationFrame(s, {}));
+  EXPECT_TRUE(frames.count("RasToWorld"));  // placed: the plan is shown, flagged
+  EXPECT_EQ(DecodeIgtlStringContent(frames.at("NavigationStatus").content),
+            "TRACKING t=12.500s ref=ok age=0ms SETTLING sd=0.52deg markers=4");
+  s.reference_settling = false;
+  EXPECT_EQ(NavigationStatusLine(s, {}), "TRACKING t=12.500s ref=ok age=0ms markers=4");
 }
 
 TEST(NavigationMessages, StaleReferenceSendsNoTransformAndSaysSo) {

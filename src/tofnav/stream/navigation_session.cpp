@@ -42,6 +42,10 @@ NavigationSessionStats RunNavigationSession(
       case NavigationStatus::kNoStream:  // between frames only (live_link.hpp)
         break;
     }
+    if (state.reference_settling) ++stats.settling_frames;
+    if (state.world_from_image && !state.reference_settling && !stats.settled_s) {
+      stats.settled_s = state.timestamp_s;
+    }
     stats.reference_pose_jumps += state.reference_pose_jump ? 1 : 0;
     stats.poses_refused_void += state.poses_refused_void;
     // A tool without a pose has all its markers kUnseen: only a posed tool's say something.

@@ -31,6 +31,8 @@ struct NavigationSessionStats {
   double last_timestamp_s = 0.0;
   std::int64_t low_rate_frames = 0;        // frames processed with NavigationState::low_rate
   std::optional<double> first_low_rate_s;  // time stamp of the first of them
+  std::int64_t settling_frames = 0;        // frames placed with NavigationState::reference_settling
+  std::optional<double> settled_s;         // time stamp of the first frame placed and not settling
 };
 
 /// Runs every frame of `source` through `navigator`, publishes EncodeNavigationFrame's messages

@@ -111,6 +111,13 @@ struct TrackedTool {
   std::optional<Rigid3d> filtered_ahat_from_tool;
   bool gated = false;         // the filter rejected this frame's raw pose as an outlier
   bool filter_reset = false;  // the filter (re-)started from this frame's raw pose
+  /// With the filtered pose and the world orientation filter: the RMS angle error its orientation
+  /// is expected to have (all three axes) [rad], this frame's fit sd (measurement.rotation_sd_rad,
+  /// with the filter's inflation for a poor fit or a partial pose) times what the filter left of
+  /// one frame's variance. One frame's sd at a (re-)start, shrinking as the filter averages a
+  /// still tool; kept about over a gap the tool was held in `world` (docs/tracking.md 1, "A
+  /// pose that is still settling").
+  std::optional<double> filtered_rotation_sd_rad;
   ToolStatus status() const { return measurement.status; }
 };
 

@@ -114,5 +114,44 @@ TEST(ToolTracker, APartialPoseAfterALookAwayTiltsTheHeldOrientationLess) {
   EXPECT_GT(whole[1], fifth[1]);
 }
 
+// A plate first seen at 650 mm: its filtered_rotation_sd_rad starts at one frame's fit (sqrt(3)
+// times the fit's per-axis sd, a whole pose fitting as its noise model says) and shrinks as the
+// still plate is averaged; after a 2 s look-away the first pose back keeps the held orientation's,
+// far below a first frame's (docs/tracking.md 1, "A pose that is still settling").
+TEST(ToolTracker, TheFilteredOrientationsSdShrinksAsAStillToolIsAveraged) {
+  ToolTracker tracker({ReferenceTool()});
+  const Rigid3d world_from_tool = testing::FacingToolPose({0.0, 0.0, 650.0}, 0.3, 0.2);
+  std::mt19937_64 rng(7);
+  std::vector<double> sd_rad, fit_sd_rad;
+  for (int i = 0; i < 60; ++i) {
+    if (i >= 30 && i < 43) continue;  // looking away for 13 frames (2 s)
+    const double t = 0.156 * i;
+    const Rigid3d world_from_ahat = TurningCamera(t);
+    const Rigid3d truth = world_from_ahat.Inverse() * world_from_tool;
+    const TrackedTool tracked =
+        tracker
+            .Track(testing::RayNoiseDetections(ReferenceTool(), truth, 0.5, 0.15, rng), t,
+                   world_from_ahat)
+            .tools[0];
+    // Present with every filtered pose (a gated frame has neither).
+    EXPECT_EQ(tracked.filtered_rotation_sd_rad.has_value(),
+              tracked.filtered_ahat_from_tool.has_value())
+        << "frame " << i;
+    sd_rad.push_back(tracked.filtered_rotation_sd_rad.value_or(std::nan("")));
+    fit_sd_rad.push_back(tracked.measurement.rotation_sd_rad);
+  }
+  ASSERT_EQ(sd_rad.size(), 47u);
+  for (const std::size_t k : {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 29, 30}) {
+    ASSERT_FALSE(std::isnan(sd_rad[k])) << "frame " << k;
+  }
+  EXPECT_GT(fit_sd_rad[0], 0.0);
+  EXPECT_GE(sd_rad[0], std::sqrt(3.0) * fit_sd_rad[0] * (1.0 - 1e-12));  // one frame's, or more
+  for (std::size_t k = 1; k < 10; ++k) {
+    EXPECT_LT(sd_rad[k] / fit_sd_rad[k], sd_rad[k - 1] / fit_sd_rad[k - 1]) << "frame " << k;
+  }
+  EXPECT_LT(sd_rad[29] / fit_sd_rad[29], 0.35 * std::sqrt(3.0));  // under 1/8 of one's variance
+  EXPECT_LT(sd_rad[30] / fit_sd_rad[30], 0.5 * std::sqrt(3.0));   // the first frame back
+}
+
 }  // namespace
 }  // namespace tofnav

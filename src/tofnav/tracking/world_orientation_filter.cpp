@@ -63,6 +63,18 @@ Eigen::Quaterniond WorldOrientationFilter::Combined(const std::array<Model, 2>& 
   return (FromRotationVector(mean) * base).normalized();
 }
 
+double WorldOrientationFilter::CombinedVariance(const std::array<Model, 2>& models,
+                                                const std::array<double, 2>& weights,
+                                                const Eigen::Quaterniond& combined) {
+  double variance = 0.0;  // each model's own, and the spread of their means (isotropic)
+  for (int k = 0; k < 2; ++k) {
+    if (weights[k] <= 0.0) continue;
+    const Eigen::Vector3d offset = RotationVector(models[k].rotation * combined.inverse());
+    variance += weights[k] * (models[k].cov.pp + offset.squaredNorm() / 3.0);
+  }
+  return variance;
+}
+
 WorldOrientationUpdate WorldOrientationFilter::Update(const Eigen::Quaterniond& measured,
                                                       double timestamp_s, double variance_scale) {
   Require(std::isfinite(variance_scale) && variance_scale >= 1.0,
@@ -122,7 +134,9 @@ WorldOrientationUpdate WorldOrientationFilter::Update(const Eigen::Quaterniond& 
     // better one out: start again from it.
     const bool poor_start = only_initialised_ && variance_scale < init_variance_scale_;
     if (!poor_start && ++gated_in_a_row_ < options_.max_gated) {
-      return {Combined(predicted, predicted_probability), true, false, probability_[kStill]};
+      const Eigen::Quaterniond held = Combined(predicted, predicted_probability);
+      return {held, true, false, probability_[kStill],
+              CombinedVariance(predicted, predicted_probability, held) / r};
     }
     Initialise(measured, timestamp_s, variance_scale);  // a real turn or move
     return {measured, false, true, probability_[kStill]};
@@ -147,7 +161,9 @@ WorldOrientationUpdate WorldOrientationFilter::Update(const Eigen::Quaterniond& 
         options_.turning_rate_sigma_rad_per_s * options_.turning_rate_sigma_rad_per_s;
   }
   last_s_ = timestamp_s;
-  return {Combined(model_, probability_), false, false, probability_[kStill]};
+  const Eigen::Quaterniond filtered = Combined(model_, probability_);
+  return {filtered, false, false, probability_[kStill],
+          CombinedVariance(model_, probability_, filtered) / r};
 }
 
 }  // namespace tofnav

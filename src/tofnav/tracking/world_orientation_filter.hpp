@@ -42,6 +42,9 @@ struct WorldOrientationUpdate {
   bool gated = false;
   bool reset = false;
   double still_probability = 0.0;  // the still model's weight after this step
+  /// The filtered orientation's variance (per axis, the models' mixture) over this measurement's:
+  /// 1 at a (re-)start, about 1/n after n still frames, what is left of one frame's noise.
+  double variance_ratio = 1.0;
 };
 
 class WorldOrientationFilter {
@@ -64,6 +67,10 @@ class WorldOrientationFilter {
   void Initialise(const Eigen::Quaterniond& measured, double timestamp_s, double variance_scale);
   Eigen::Quaterniond Combined(const std::array<Model, 2>& models,
                               const std::array<double, 2>& weights) const;
+  /// The mixture's per-axis variance about `combined` [rad^2].
+  static double CombinedVariance(const std::array<Model, 2>& models,
+                                 const std::array<double, 2>& weights,
+                                 const Eigen::Quaterniond& combined);
 
   WorldOrientationOptions options_;
   bool initialised_ = false;
