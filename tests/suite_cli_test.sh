@@ -79,6 +79,11 @@ assert "expected from sampling" in html
 if all(r["ok"] and r.get("tracking_mm_se") is not None for r in out["rows"]):
     assert all(r["tracking_mm_se"] > 0.0 for r in out["rows"]), [r["tracking_mm_se"] for r in out["rows"]]
     assert s["tracking_mm_sampling_range"] > 0.0, s
+# Beside the orientation line, over the poses navigation shows settled (docs/navigation.md 1.2):
+# a subset of the same frames, so present and positive wherever the line's figure is.
+for r in out["rows"]:
+    if r["ok"] and r.get("tracking_deg") is not None:
+        assert r["tracking_deg_settled"] > 0.0, r
 # --stability 2 --consensus: each row carries its depth stage's stability figures, and the spread
 # their worst; the medoid of the three runs is kept, and its own stability is reported.
 for r in out["rows"]:

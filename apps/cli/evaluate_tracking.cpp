@@ -40,6 +40,9 @@ OrderedJson EvaluationJson(const std::string& name, const ToolEvaluation& e) {
                 {"filtered", StatsJson(e.filtered)},
                 {"raw_fully_visible", StatsJson(e.raw_fully_visible)},
                 {"filtered_fully_visible", StatsJson(e.filtered_fully_visible)},
+                // From a poses JSON (filtered_rotation_sd_deg): what navigation shows settled.
+                {"filtered_settled_fully_visible", StatsJson(e.filtered_settled_fully_visible)},
+                {"settling_frames", e.settling_frames},
                 {"static_frames", e.static_frames},
                 {"jitter_raw_mm", e.jitter_raw_mm ? OrderedJson(*e.jitter_raw_mm) : OrderedJson()},
                 {"jitter_filtered_mm",
@@ -69,7 +72,9 @@ void PrintText(const std::string& name, const ToolEvaluation& e) {
             << " mm, rotation RMS " << e.raw_fully_visible.rotation_deg.rms << " deg\n"
             << "  filtered, fully visible frames: position RMS "
             << e.filtered_fully_visible.position_mm.rms << " mm, rotation RMS "
-            << e.filtered_fully_visible.rotation_deg.rms << " deg\n"
+            << e.filtered_fully_visible.rotation_deg.rms << " deg; less the " << e.settling_frames
+            << " settling: rotation RMS " << e.filtered_settled_fully_visible.rotation_deg.rms
+            << " deg\n"
             << "  filtered position median " << e.filtered.position_mm.median << " RMS "
             << e.filtered.position_mm.rms << " max " << e.filtered.position_mm.max
             << " mm; rotation median " << e.filtered.rotation_deg.median << " RMS "

@@ -50,10 +50,10 @@ SuiteJson SuiteSummary(const std::vector<SuiteJson>& rows) {
   SuiteJson summary = SuiteJson::object();
   std::size_t refused = 0, failed = 0, all_met = 0, instrument_wrong = 0;
   for (const char* key :
-       {"tracking_mm", "tracking_deg", "depth_after_mm", "reconstruction_mm", "beyond_3mm_percent",
-        "true_tre_mm", "entry_mm", "angle_deg", "stream_mbit_s", "wall_s", "stability_c1_mm",
-        "stability_head_mm", "consensus_c1_mm", "consensus_head_mm", "consensus_mean_c1_mm",
-        "consensus_mean_head_mm"}) {
+       {"tracking_mm", "tracking_deg", "tracking_deg_settled", "depth_after_mm",
+        "reconstruction_mm", "beyond_3mm_percent", "true_tre_mm", "entry_mm", "angle_deg",
+        "stream_mbit_s", "wall_s", "stability_c1_mm", "stability_head_mm", "consensus_c1_mm",
+        "consensus_head_mm", "consensus_mean_c1_mm", "consensus_mean_head_mm"}) {
     std::vector<double> values;
     for (const SuiteJson& r : rows) {
       if (r.contains(key) && r.at(key).is_number() && !std::isnan(r.at(key).get<double>())) {

@@ -211,6 +211,11 @@ void RunDemoTracking(DemoContext& ctx, DemoJson& stage) {
                               {"filtered_position_rms_se_mm", output.position_rms_se_mm},
                               {"filtered_rotation_rms_se_deg", output.rotation_rms_se_deg},
                               {"wrong_identities", e.wrong_identities}});
+    if (ctx.method != Method::kPaper) {  // beside the lines: the poses navigation shows settled
+      stage["tools"].back()["settled_rotation_rms_deg"] =
+          e.filtered_settled_fully_visible.rotation_deg.rms;
+      stage["tools"].back()["settling_frames"] = e.settling_frames;
+    }
     if (!t.name.starts_with("reference")) continue;  // issue 4's lines are the reference tools'
     // Issue 4's lines on the tracker's output pose: the filtered one (orientation filtered in the
     // world frame, position with a camera-motion-adaptive filter, when the rig pose is known).

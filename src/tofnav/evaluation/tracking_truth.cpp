@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "tofnav/core/units.hpp"
 #include "tofnav/evaluation/truth_hits.hpp"
 #include "tofnav/io/file.hpp"
 
@@ -113,6 +114,9 @@ std::vector<ToolTruthEvaluation> EvaluateTrackingAgainstTruth(
         FullyVisible(f.at("visible_markers"), r.tool, tools[r.tool], tools, min_marker_pixels);
     e.raw = r.ahat_from_tool;
     e.filtered = r.filtered_ahat_from_tool;
+    if (r.filtered_ahat_from_tool && r.filtered_rotation_sd_deg > 0.0) {
+      e.filtered_rotation_sd_rad = r.filtered_rotation_sd_deg * kDegToRad;
+    }
     ToolTruthEvaluation& t = result[slot[r.tool]];
     t.frames.push_back(e);
     t.times_s.push_back(r.time_s);

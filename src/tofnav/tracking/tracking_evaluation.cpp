@@ -57,6 +57,9 @@ void TrackingEvaluationOptions::Check() const {
     throw std::invalid_argument(
         "TrackingEvaluationOptions: jitter_warmup_frames >= 0, min_static_frames >= 2");
   }
+  if (!(settled_rotation_sd_rad > 0.0)) {
+    throw std::invalid_argument("TrackingEvaluationOptions::settled_rotation_sd_rad must be > 0");
+  }
   if (!(range_bin_mm > 0.0)) {
     throw std::invalid_argument("TrackingEvaluationOptions::range_bin_mm must be > 0");
   }
@@ -75,7 +78,7 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
   ToolEvaluation e;
   e.frames = static_cast<int>(frames.size());
   std::vector<double> raw_mm, raw_deg, filtered_mm, filtered_deg, visible_mm, visible_deg;
-  std::vector<double> visible_filtered_mm, visible_filtered_deg;
+  std::vector<double> visible_filtered_mm, visible_filtered_deg, settled_mm, settled_deg;
   std::map<long, std::pair<double, int>> bins;  // bin index -> (sum of bias, count)
   JitterSum raw_jitter, filtered_jitter;
   std::vector<Eigen::Vector3d> raw_run, filtered_run;
@@ -128,9 +131,16 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
     if (f.filtered) {
       filtered_mm.push_back(TranslationDistanceMm(*f.filtered, f.true_ahat_from_tool));
       filtered_deg.push_back(RotationDistanceRad(*f.filtered, f.true_ahat_from_tool) * kRadToDeg);
+      const bool settling = f.filtered_rotation_sd_rad &&
+                            *f.filtered_rotation_sd_rad > options.settled_rotation_sd_rad;
+      e.settling_frames += settling ? 1 : 0;
       if (f.fully_visible) {
         visible_filtered_mm.push_back(filtered_mm.back());
         visible_filtered_deg.push_back(filtered_deg.back());
+        if (!settling) {
+          settled_mm.push_back(filtered_mm.back());
+          settled_deg.push_back(filtered_deg.back());
+        }
       }
       if (run_length > options.jitter_warmup_frames)
         filtered_run.push_back(f.filtered->translation);
@@ -144,6 +154,7 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
   e.filtered = Stats(filtered_mm, filtered_deg);
   e.raw_fully_visible = Stats(visible_mm, visible_deg);
   e.filtered_fully_visible = Stats(visible_filtered_mm, visible_filtered_deg);
+  e.filtered_settled_fully_visible = Stats(settled_mm, settled_deg);
   e.jitter_raw_mm = raw_jitter.Value();
   e.jitter_filtered_mm = filtered_jitter.Value();
   for (const auto& [index, sum] : bins) {

@@ -18,6 +18,9 @@ struct ToolEvaluationFrame {
   bool fully_visible = true;        // every marker visible and apart from the others in the image
   std::optional<Rigid3d> raw;       // measured pose, when reported
   std::optional<Rigid3d> filtered;  // filtered pose, when reported
+  /// The filtered orientation's expected RMS error (TrackedTool::filtered_rotation_sd_rad), when
+  /// reported.
+  std::optional<double> filtered_rotation_sd_rad;
 };
 
 struct TrackingEvaluationOptions {
@@ -31,7 +34,10 @@ struct TrackingEvaluationOptions {
   int jitter_warmup_frames = 20;  // frames dropped at the start of a static run (filter settling)
   int min_static_frames = 10;     // frames a static run needs after the warm-up
   double range_bin_mm = 100.0;    // width of the marker-range bins of the range bias
-  void Check() const;             // throws std::invalid_argument naming the bad field
+  /// A filtered pose whose filtered_rotation_sd_rad is above this is SETTLING, as navigation
+  /// flags it (NavigatorOptions::settled_rotation_sd_rad; docs/navigation.md 1.2) [rad].
+  double settled_rotation_sd_rad = 0.35 * 3.14159265358979323846 / 180.0;
+  void Check() const;  // throws std::invalid_argument naming the bad field
   /// A measured pose farther from the true one than wrong_translation_mm or wrong_rotation_rad.
   bool IsWrongIdentity(const Rigid3d& measured, const Rigid3d& truth) const;
 };
@@ -63,6 +69,10 @@ struct ToolEvaluation {
   PoseErrorStats raw, filtered;
   PoseErrorStats raw_fully_visible;       // raw poses of fully visible frames only
   PoseErrorStats filtered_fully_visible;  // filtered poses of fully visible frames only
+  /// ... of those, the poses that are not SETTLING (no sd, or at most settled_rotation_sd_rad):
+  /// what navigation shows as settled. Reported beside the lines, never instead of them.
+  PoseErrorStats filtered_settled_fully_visible;
+  int settling_frames = 0;  // filtered poses that are SETTLING
   /// sqrt(trace(covariance)) of the position over static runs (pooled); nullopt without one.
   std::optional<double> jitter_raw_mm, jitter_filtered_mm;
   int static_frames = 0;  // frames that entered the jitter

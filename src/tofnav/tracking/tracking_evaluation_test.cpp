@@ -80,6 +80,30 @@ TEST(TrackingEvaluation, StaticJitterAfterWarmUpAndRangeBias) {
   EXPECT_EQ(e.wrong_identities, 1);
 }
 
+// Filtered poses reported SETTLING (sd above 0.35 deg) stay in the filtered figures and leave the
+// settled ones; a pose without an sd makes no claim and counts as settled.
+TEST(TrackingEvaluation, SettledFiguresLeaveOutTheSettlingPoses) {
+  std::vector<ToolEvaluationFrame> frames;
+  const double sd_deg[] = {0.9, 0.5, 0.3, 0.2, -1.0};  // -1: none reported
+  for (int i = 0; i < 5; ++i) {
+    ToolEvaluationFrame f;
+    f.true_ahat_from_tool = At(10.0 * i, 0, 400);
+    f.raw = At(10.0 * i, 0, 400);
+    f.filtered = At(10.0 * i + 0.1 * (5 - i), 0, 400);  // errors 0.5, 0.4, 0.3, 0.2, 0.1 mm
+    if (sd_deg[i] > 0.0) f.filtered_rotation_sd_rad = sd_deg[i] * std::numbers::pi / 180.0;
+    frames.push_back(f);
+  }
+  const ToolEvaluation e = EvaluateToolTracking(frames, {});
+  EXPECT_EQ(e.settling_frames, 2);
+  EXPECT_EQ(e.filtered_fully_visible.position_mm.count, 5u);
+  EXPECT_EQ(e.filtered_settled_fully_visible.position_mm.count, 3u);
+  EXPECT_NEAR(e.filtered_settled_fully_visible.position_mm.rms,
+              std::sqrt((0.09 + 0.04 + 0.01) / 3.0), kTol);
+  TrackingEvaluationOptions none;
+  none.settled_rotation_sd_rad = 1.0;  // nothing settling
+  EXPECT_EQ(EvaluateToolTracking(frames, {}, none).settling_frames, 0);
+}
+
 TEST(TrackingEvaluation, RejectsBadOptions) {
   TrackingEvaluationOptions options;
   options.wrong_translation_mm = 0.0;
