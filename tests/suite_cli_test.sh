@@ -84,6 +84,7 @@ if all(r["ok"] and r.get("tracking_mm_se") is not None for r in out["rows"]):
 for r in out["rows"]:
     if r["ok"] and r.get("tracking_deg") is not None:
         assert r["tracking_deg_settled"] > 0.0, r
+        assert "(settled %.3g)" % r["tracking_deg_settled"] in html, r["tracking_deg_settled"]
 # --stability 2 --consensus: each row carries its depth stage's stability figures, and the spread
 # their worst; the medoid of the three runs is kept, and its own stability is reported.
 for r in out["rows"]:

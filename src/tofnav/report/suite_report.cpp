@@ -30,10 +30,17 @@ std::string Marked(const Json& row, const char* figure, int significant = 3) {
   return cell;
 }
 
+// The orientation over the poses navigation shows settled, beside its line (docs/navigation.md
+// 1.2): " (settled 0.218)", or nothing where the row has none.
+std::string SettledNote(const Json& row) {
+  const double deg = Number(row, "tracking_deg_settled");
+  return std::isnan(deg) ? std::string() : " (settled " + Cell(deg) + ")";
+}
+
 std::vector<std::string> RowCells(const Json& row) {
   const std::string registration = Text(row, "registration");
   return {EscapeXml(Text(row, "name")),
-          Marked(row, "tracking_mm") + " / " + Marked(row, "tracking_deg"),
+          Marked(row, "tracking_mm") + " / " + Marked(row, "tracking_deg") + SettledNote(row),
           Cell(Number(row, "depth_after_mm")),
           Marked(row, "reconstruction_mm"),
           Marked(row, "beyond_3mm_percent"),
@@ -151,9 +158,9 @@ std::string RenderSuiteHtml(const std::filesystem::path& suite_json) {
           " s. Every figure is measured against the simulator's truth; red: the case misses "
           "the acceptance line of the outlier-proof pipeline (docs/suite.md).</p>\n";
   html += report_internal::Table(
-      {"case", "tracking mm / deg (filtered RMS)", "depth after [mm]", "reconstruction [mm]",
-       "head &gt; 3 mm [%]", "outliers", "registration", "true TRE [mm]", "entry mm / angle deg",
-       "wall [s]", "error"},
+      {"case", "tracking mm / deg (filtered RMS; settled: less the SETTLING poses)",
+       "depth after [mm]", "reconstruction [mm]", "head &gt; 3 mm [%]", "outliers", "registration",
+       "true TRE [mm]", "entry mm / angle deg", "wall [s]", "error"},
       cells);
   if (suite.contains("spread")) html += SpreadTable(suite.at("spread"));
   html += StabilityTable(rows);

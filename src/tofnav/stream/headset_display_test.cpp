@@ -78,6 +78,14 @@ std::vector<std::string> Words(const FakeRemoteScene& scene) {
   return words;
 }
 
+// Shows `state` and waits until the fake headset has it: the scene it then holds.
+FakeRemoteScene Show(HeadsetDisplay& display, const FakeRemoteSceneServer& server,
+                     const NavigationState& state) {
+  display.Update(state);
+  EXPECT_TRUE(display.WaitUntilHandled(kWait_s));
+  return server.scene();
+}
+
 HeadsetDisplayOptions Options(const FakeRemoteSceneServer& server) {
   HeadsetDisplayOptions o;
   o.port = server.port();
@@ -98,9 +106,7 @@ TEST(HeadsetDisplay, PathEndPointsFollowThePlanEveryFrame) {
   std::normal_distribution<double> jitter(0.0, 0.3);
   for (int frame = 0; frame < 40; ++frame) {
     const NavigationState s = Tracked(WorldFromImage(jitter(rng), 0.002 * jitter(rng)));
-    display.Update(s);
-    ASSERT_TRUE(display.WaitUntilHandled(kWait_s));
-    const FakeRemoteScene scene = server.scene();
+    const FakeRemoteScene scene = Show(display, server, s);
     for (std::size_t i = 0; i < 2; ++i) {
       const PlacedTrajectory& t = s.plan[i];
       const Eigen::Vector3d out = (t.entry_in_world - t.target_in_world).normalized();
@@ -139,11 +145,7 @@ TEST(HeadsetDisplay, ColoursTextAndSpeechFollowTheInstrument) {
   FakeRemoteSceneServer server;
   HeadsetDisplay display(Plan(), Options(server));
   const Rigid3d pose = WorldFromImage(0.0, 0.0);
-  const auto show = [&](const NavigationState& s) {
-    display.Update(s);
-    EXPECT_TRUE(display.WaitUntilHandled(kWait_s));
-    return server.scene();
-  };
+  const auto show = [&](const NavigationState& s) { return Show(display, server, s); };
   FakeRemoteScene scene = show(Tracked(pose, Eigen::Vector3d::Zero()));
   const FakeSceneObject& tip = Slot(scene, InstrumentTipSlot(2));
   EXPECT_TRUE(tip.active);
@@ -169,28 +171,22 @@ TEST(HeadsetDisplay, ColoursTextAndSpeechFollowTheInstrument) {
   EXPECT_NEAR(Slot(scene, 2).colour.r, 0.6f, 1e-6f);
 }
 
-// On target, but the reference is SETTLING (one frame's orientation, not yet averaged): the
-// guidance is grey, the panel says so, nothing is spoken; once settled it turns green and is said.
+// On target, but the reference is SETTLING (one frame's orientation, not yet averaged): grey,
+// the panel says so, nothing is spoken; once settled it turns green and is said.
 TEST(HeadsetDisplay, ASettlingReferenceClaimsNothing) {
   FakeRemoteSceneServer server;
   HeadsetDisplay display(Plan(), Options(server));
-  const auto show = [&](const NavigationState& s) {
-    display.Update(s);
-    EXPECT_TRUE(display.WaitUntilHandled(kWait_s));
-    return server.scene();
-  };
   NavigationState settling = Tracked(WorldFromImage(0.0, 0.0), Eigen::Vector3d::Zero());
   settling.reference_rotation_sd_rad = 0.52 * std::numbers::pi / 180.0;
   settling.reference_settling = true;
-  FakeRemoteScene scene = show(settling);
+  FakeRemoteScene scene = Show(display, server, settling);
   EXPECT_TRUE(Slot(scene, InstrumentTipSlot(2)).active);
   EXPECT_NEAR(Slot(scene, InstrumentTipSlot(2)).colour.g, 0.6f, 1e-6f);  // grey, not green
   EXPECT_NEAR(Slot(scene, 2).colour.g, 0.6f, 1e-6f);
   EXPECT_EQ(Slot(scene, TextPanelSlot(2)).text.rfind("SETTLING 0.5 deg\n", 0), 0u);
   EXPECT_TRUE(Words(scene).empty());
-  NavigationState settled = settling;
-  settled.reference_settling = false;
-  scene = show(settled);
+  settling.reference_settling = false;  // now settled
+  scene = Show(display, server, settling);
   EXPECT_GT(Slot(scene, InstrumentTipSlot(2)).colour.g, 0.8f);
   EXPECT_EQ(Slot(scene, TextPanelSlot(2)).text.find("SETTLING"), std::string::npos);
   EXPECT_EQ(Words(scene), (std::vector<std::string>{"on target"}));
