@@ -156,8 +156,7 @@ NavigationState Navigator::Place(double timestamp_s, const TrackingFrame& tracke
   state.world_from_image = held_world_from_image_;
   if (state.world_from_image) {
     state.reference_rotation_sd_rad = held_rotation_sd_rad_;
-    state.reference_settling =
-        held_rotation_sd_rad_ && *held_rotation_sd_rad_ > options_.settled_rotation_sd_rad;
+    state.reference_settling = IsSettling(held_rotation_sd_rad_, options_.settled_rotation_sd_rad);
   }
   if (state.ahat_from_tool) {
     state.status = world_from_rig ? NavigationStatus::kTracking : NavigationStatus::kNoWorldPose;

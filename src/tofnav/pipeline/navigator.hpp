@@ -15,6 +15,7 @@
 #include "tofnav/sensor/ahat_camera.hpp"
 #include "tofnav/sensor/ahat_frame.hpp"
 #include "tofnav/tracking/pose_jump_guard.hpp"
+#include "tofnav/tracking/settling.hpp"
 #include "tofnav/tracking/tool_tracker.hpp"
 
 namespace tofnav {
@@ -47,7 +48,7 @@ struct NavigatorOptions {
   /// frame's fit (a far plate's 0.5 deg) and is averaged to this in a few frames; a plate back
   /// from a gap starts from its orientation held in the world (docs/navigation.md, "A reference
   /// that is still settling"). Infinity turns it off.
-  double settled_rotation_sd_rad = 0.35 * 3.14159265358979323846 / 180.0;
+  double settled_rotation_sd_rad = kSettledRotationSdRad;
   /// Instrument axis in its own frame (towards the tip); nullopt: from the markers' centroid to
   /// the tip (a drill whose marker array sits on its shaft axis).
   std::optional<Eigen::Vector3d> instrument_axis_in_tool;

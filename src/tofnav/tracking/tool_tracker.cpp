@@ -229,7 +229,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
         // Gated there, the world filter's output is its prediction: the held orientation of a
         // tool that stands still, better than the raw one the `ahat` filter may restart from.
         filtered.rotation = world_from_ahat->rotation.inverse() * world.filtered;
-        if (m.rotation_sd_rad > 0.0) {
+        if (!update.gated && m.rotation_sd_rad > 0.0) {  // with a filtered pose only
           tracked.filtered_rotation_sd_rad =
               std::sqrt(3.0 * world.variance_ratio * world_scale) * m.rotation_sd_rad;
         }
@@ -246,11 +246,7 @@ TrackingFrame ToolTracker::Track(std::span<const DetectedMarker> detections, dou
           terms_of[t] = position.terms;
         }
       }
-      if (!update.gated) {
-        filtered_of[t] = filtered;
-      } else {
-        tracked.filtered_rotation_sd_rad.reset();  // no filtered pose this frame
-      }
+      if (!update.gated) filtered_of[t] = filtered;
     }
     frame.tools.push_back(std::move(tracked));
   }

@@ -131,8 +131,7 @@ ToolEvaluation EvaluateToolTracking(std::span<const ToolEvaluationFrame> frames,
     if (f.filtered) {
       filtered_mm.push_back(TranslationDistanceMm(*f.filtered, f.true_ahat_from_tool));
       filtered_deg.push_back(RotationDistanceRad(*f.filtered, f.true_ahat_from_tool) * kRadToDeg);
-      const bool settling = f.filtered_rotation_sd_rad &&
-                            *f.filtered_rotation_sd_rad > options.settled_rotation_sd_rad;
+      const bool settling = IsSettling(f.filtered_rotation_sd_rad, options.settled_rotation_sd_rad);
       e.settling_frames += settling ? 1 : 0;
       if (f.fully_visible) {
         visible_filtered_mm.push_back(filtered_mm.back());

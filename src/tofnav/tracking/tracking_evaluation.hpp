@@ -9,6 +9,7 @@
 
 #include "tofnav/core/rigid3d.hpp"
 #include "tofnav/core/statistics.hpp"
+#include "tofnav/tracking/settling.hpp"
 
 namespace tofnav {
 
@@ -36,7 +37,7 @@ struct TrackingEvaluationOptions {
   double range_bin_mm = 100.0;    // width of the marker-range bins of the range bias
   /// A filtered pose whose filtered_rotation_sd_rad is above this is SETTLING, as navigation
   /// flags it (NavigatorOptions::settled_rotation_sd_rad; docs/navigation.md 1.2) [rad].
-  double settled_rotation_sd_rad = 0.35 * 3.14159265358979323846 / 180.0;
+  double settled_rotation_sd_rad = kSettledRotationSdRad;
   void Check() const;  // throws std::invalid_argument naming the bad field
   /// A measured pose farther from the true one than wrong_translation_mm or wrong_rotation_rad.
   bool IsWrongIdentity(const Rigid3d& measured, const Rigid3d& truth) const;
