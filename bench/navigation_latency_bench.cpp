@@ -3,7 +3,8 @@
 // IgtlServer::Publish, loopback TCP, client parse. Frames of evd-usecase paced at 45 Hz. Arguments:
 // headset 0 no headset display, 1 HeadsetDisplay to a fake remote scene, 2 the same server stalled;
 // stream 0 the decoded frame is given, 1 it arrives as a ZDEPTH+RAW packet, 2 as a ZDEPTH+H265
-// packet at the hl2ss client's default bitrate (decoding included in the latency).
+// packet, 3 as a SAME+H265 packet (the hl2ss client's default profile), both at the client's
+// default bitrate (decoding included in the latency).
 #include <benchmark/benchmark.h>
 #include <sys/socket.h>
 
@@ -84,8 +85,8 @@ void BM_FrameToSocketLatency(benchmark::State& state) {
   // The packets the headset would send (the first is a key frame, so the replay loop can restart).
   const std::int64_t stream = state.range(1);
   Hl2ssAhatConfig config;
-  config.profile_z = Hl2ssDepthProfile::kZdepth;
-  config.profile_ab = stream == 2 ? Hl2ssVideoProfile::kH265Main : Hl2ssVideoProfile::kRaw;
+  config.profile_z = stream == 3 ? Hl2ssDepthProfile::kSame : Hl2ssDepthProfile::kZdepth;
+  config.profile_ab = stream >= 2 ? Hl2ssVideoProfile::kH265Main : Hl2ssVideoProfile::kRaw;
   config.bitrate_bps = Hl2ssDefaultAhatBitrate(config.profile_z, config.profile_ab);
   config.encoder_options = Hl2ssDefaultEncoderOptions(config.profile_ab);
   std::vector<std::vector<std::uint8_t>> packets;
@@ -123,7 +124,7 @@ void BM_FrameToSocketLatency(benchmark::State& state) {
     const auto arrival = Clock::now();
     AhatFrame frame = stream == 0 ? frames[k]
                                   : *DecodeHl2ssPacket(config, packets[k], "bench",
-                                                       stream == 2 ? &video : nullptr);
+                                                       stream >= 2 ? &video : nullptr);
     frame.host_ticks += static_cast<std::uint64_t>(shift_s / kSecondsPerHostTick);
     const NavigationState s = navigator.Process(frame);
     for (NamedMessage& m : EncodeNavigationFrame(s, c.navigation_case.plan)) {
@@ -160,6 +161,7 @@ BENCHMARK(BM_FrameToSocketLatency)
     ->Args({2, 0})
     ->Args({0, 1})
     ->Args({0, 2})
+    ->Args({0, 3})
     ->UseManualTime()
     ->Iterations(900)
     ->Unit(benchmark::kMillisecond);

@@ -14,6 +14,7 @@ extern "C" {
 #include <cstdarg>
 #include <cstdio>
 #include <cstring>
+#include <deque>
 #include <mutex>
 #include <stdexcept>
 
@@ -23,16 +24,35 @@ namespace tofnav {
 namespace {
 
 // libavcodec reports why a unit failed through its log, not its return codes: the last error
-// line of this thread is kept for the message, and nothing is printed.
+// line is kept for the message, and nothing is printed. A decoder's own lines (its frame threads
+// log through copies of its context, which carry its `opaque`) go to that decoder's Log; any other
+// line to the calling thread's.
+struct DecoderLog {
+  std::mutex mutex;
+  std::string last_error;
+};
 thread_local std::string last_library_error;
 
-void LogCallback(void* /*context*/, int level, const char* format, va_list arguments) {
+DecoderLog* LogOf(void* object) {
+  if (object == nullptr) return nullptr;
+  const AVClass* type = *static_cast<const AVClass* const*>(object);
+  if (type == nullptr || std::strcmp(type->class_name, "AVCodecContext") != 0) return nullptr;
+  return static_cast<DecoderLog*>(static_cast<AVCodecContext*>(object)->opaque);
+}
+
+void LogCallback(void* object, int level, const char* format, va_list arguments) {
   if (level > AV_LOG_ERROR) return;
   char line[512];
   std::vsnprintf(line, sizeof(line), format, arguments);
   std::string text(line);
   while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-  if (!text.empty()) last_library_error = text;
+  if (text.empty()) return;
+  if (DecoderLog* log = LogOf(object)) {
+    const std::lock_guard lock(log->mutex);
+    log->last_error = text;
+  } else {
+    last_library_error = text;
+  }
 }
 
 void InstallLogCallback() {
@@ -76,6 +96,10 @@ using FramePtr = std::unique_ptr<AVFrame, FrameDeleter>;
 using PacketPtr = std::unique_ptr<AVPacket, PacketDeleter>;
 
 void CopyPlane(const AVFrame& frame, int plane, Image<std::uint8_t>& out) {
+  const int shift = plane == 0 ? 0 : 1;  // 4:2:0 chroma is half size both ways
+  if (out.width() != kAhatWidth >> shift || out.height() != kAhatHeight >> shift) {
+    out = Image<std::uint8_t>(kAhatWidth >> shift, kAhatHeight >> shift);
+  }
   for (int row = 0; row < out.height(); ++row) {
     std::memcpy(&out(0, row),
                 frame.data[plane] + static_cast<std::ptrdiff_t>(row) * frame.linesize[plane],
@@ -112,10 +136,27 @@ struct H26xDecoder::State {
   ContextPtr context;
   FramePtr frame{av_frame_alloc()};
   PacketPtr packet{av_packet_alloc()};
-  std::vector<std::uint8_t> padded;  // libavcodec reads up to 64 bytes past the unit's end
+  std::vector<std::uint8_t> padded;     // libavcodec reads up to 64 bytes past the unit's end
+  std::deque<H26xUnitPlace> in_flight;  // sent units whose pictures have not come out, oldest first
+  DecoderLog log;
+
+  // The library's last error line since the last call, as " (libavcodec: ...)", or "".
+  std::string TakeLibraryError() {
+    std::string text;
+    {
+      const std::lock_guard lock(log.mutex);
+      text.swap(log.last_error);
+    }
+    if (text.empty()) text.swap(last_library_error);
+    return text.empty() ? std::string() : " (libavcodec: " + text + ")";
+  }
 };
 
-H26xDecoder::H26xDecoder(H26xCodec codec) : codec_(codec), state_(std::make_unique<State>()) {
+H26xDecoder::H26xDecoder(H26xCodec codec, int frame_threads)
+    : codec_(codec), frame_threads_(frame_threads), state_(std::make_unique<State>()) {
+  if (frame_threads < 1 || frame_threads > 16) {
+    throw std::invalid_argument("H26xDecoder: frame_threads must lie in [1, 16]");
+  }
   InstallLogCallback();
   Reset();
 }
@@ -130,8 +171,12 @@ void H26xDecoder::Reset() {
   }
   state_->context.reset(avcodec_alloc_context3(decoder));
   AVCodecContext& context = *state_->context;
-  context.thread_count = 1;                  // no frame threading: one picture per unit, in order
-  context.flags |= AV_CODEC_FLAG_LOW_DELAY;  // no B-frames: output each picture at once
+  context.opaque = &state_->log;
+  context.thread_count = frame_threads_;
+  // One thread: each picture comes out of its own unit at once (no B-frames). More: frame threads,
+  // each picture frame_threads - 1 units later (the same pictures, bit for bit).
+  context.thread_type = frame_threads_ > 1 ? FF_THREAD_FRAME : 0;
+  if (frame_threads_ == 1) context.flags |= AV_CODEC_FLAG_LOW_DELAY;
   context.err_recognition = AV_EF_EXPLODE | AV_EF_BITSTREAM | AV_EF_BUFFER | AV_EF_CRCCHECK;
   const int opened = avcodec_open2(&context, decoder, nullptr);
   if (opened < 0) {
@@ -139,59 +184,106 @@ void H26xDecoder::Reset() {
                              " decoder: " + ErrorText(opened));
   }
   started_ = false;
+  ended_ = false;
+  state_->in_flight.clear();
+  state_->TakeLibraryError();
 }
 
 Yuv420Picture H26xDecoder::Decode(std::span<const std::uint8_t> access_unit,
                                   const H26xUnitPlace& place) {
-  const auto fail = [&](const std::string& what) {
-    return IoError(place.source, place.offset,
-                   "frame " + std::to_string(place.frame) + ": " + CodecName(codec_) +
-                       " access unit of " + std::to_string(access_unit.size()) + " bytes " + what);
-  };
-  if (!started_ && !H26xIsKeyFrame(codec_, access_unit)) {
-    throw fail(
-        "is not a key frame, and the decoder has none to start from (a stream must start "
-        "with an IDR picture)");
+  Yuv420Picture picture;
+  Decode(access_unit, place, picture);
+  return picture;
+}
+
+void H26xDecoder::Decode(std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place,
+                         Yuv420Picture& picture) {
+  if (frame_threads_ != 1) throw std::logic_error("H26xDecoder::Decode needs one frame thread");
+  Send(access_unit, place);
+  if (!Receive(picture)) {
+    throw Failure(place, access_unit.size(),
+                  "gave no picture (a stream with reordered frames or a unit without a slice?)" +
+                      state_->TakeLibraryError());
   }
+}
+
+IoError H26xDecoder::Failure(const H26xUnitPlace& place, std::size_t bytes,
+                             const std::string& what) const {
+  return IoError(place.source, place.offset,
+                 "frame " + std::to_string(place.frame) + ": " + CodecName(codec_) +
+                     " access unit of " + std::to_string(bytes) + " bytes " + what);
+}
+
+void H26xDecoder::Send(std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place) {
+  if (ended_) throw std::logic_error("H26xDecoder::Send after SendEnd (Reset first)");
+  if (!started_ && !H26xIsKeyFrame(codec_, access_unit)) {
+    throw Failure(place, access_unit.size(),
+                  "is not a key frame, and the decoder has none to start from (a stream must "
+                  "start with an IDR picture)");
+  }
+  started_ = true;
   State& s = *state_;
+  H26xUnitPlace sent = place;
+  sent.bytes = access_unit.size();
+  s.in_flight.push_back(std::move(sent));
   s.padded.assign(access_unit.size() + AV_INPUT_BUFFER_PADDING_SIZE, 0);
   std::copy(access_unit.begin(), access_unit.end(), s.padded.begin());
   s.packet->data = s.padded.data();
   s.packet->size = static_cast<int>(access_unit.size());
-  last_library_error.clear();
-  const int sent = avcodec_send_packet(s.context.get(), s.packet.get());
+  // A line logged for a unit still in flight (by its frame thread) is kept for its failure.
+  if (s.in_flight.size() == 1) s.TakeLibraryError();
+  const int sent_code = avcodec_send_packet(s.context.get(), s.packet.get());
   s.packet->data = nullptr;
   s.packet->size = 0;
-  const auto library = [] {
-    return last_library_error.empty() ? std::string() : " (libavcodec: " + last_library_error + ")";
-  };
-  if (sent < 0) throw fail("does not decode: " + ErrorText(sent) + library());
-  const int received = avcodec_receive_frame(s.context.get(), s.frame.get());
-  if (received == AVERROR(EAGAIN)) {
-    throw fail("gave no picture (a stream with reordered frames or a unit without a slice?)" +
-               library());
+  // With frame threads a failure may be an older unit's: the oldest in flight is the one named.
+  if (sent_code < 0) Fail("does not decode: " + ErrorText(sent_code));
+}
+
+void H26xDecoder::SendEnd() {
+  if (ended_) return;
+  ended_ = true;
+  const int code = avcodec_send_packet(state_->context.get(), nullptr);
+  if (code < 0 && code != AVERROR_EOF && !state_->in_flight.empty()) {
+    Fail("does not decode: " + ErrorText(code));
   }
-  if (received < 0) throw fail("does not decode: " + ErrorText(received) + library());
+}
+
+void H26xDecoder::Fail(const std::string& what) {
+  State& s = *state_;
+  const H26xUnitPlace place = s.in_flight.empty() ? H26xUnitPlace{} : s.in_flight.front();
+  throw Failure(place, place.bytes, what + s.TakeLibraryError());
+}
+
+bool H26xDecoder::Receive(Yuv420Picture& picture) {
+  State& s = *state_;
+  if (s.in_flight.empty()) return false;
+  const int received = avcodec_receive_frame(s.context.get(), s.frame.get());
+  if (received == AVERROR(EAGAIN)) return false;
+  if (received == AVERROR_EOF) {
+    Fail("gave no picture (a stream with reordered frames or a unit without a slice?)");
+  }
+  if (received < 0) Fail("does not decode: " + ErrorText(received));
   const AVFrame& frame = *s.frame;
   if ((frame.flags & AV_FRAME_FLAG_CORRUPT) != 0 || frame.decode_error_flags != 0) {
     av_frame_unref(s.frame.get());
-    throw fail("decodes to a damaged picture" + library());
+    Fail("decodes to a damaged picture");
   }
   const bool planar420 = frame.format == AV_PIX_FMT_YUV420P || frame.format == AV_PIX_FMT_YUVJ420P;
   if (frame.width != kAhatWidth || frame.height != kAhatHeight || !planar420) {
     const std::string found = std::to_string(frame.width) + " x " + std::to_string(frame.height) +
                               " " + std::to_string(frame.format);
     av_frame_unref(s.frame.get());
-    throw fail("decodes to a " + found + " picture, expected 512 x 512 8-bit 4:2:0");
+    Fail("decodes to a " + found + " picture, expected 512 x 512 8-bit 4:2:0");
   }
-  Yuv420Picture picture;
   CopyPlane(frame, 0, picture.y);
   CopyPlane(frame, 1, picture.u);
   CopyPlane(frame, 2, picture.v);
   av_frame_unref(s.frame.get());
-  started_ = true;
-  return picture;
+  s.in_flight.pop_front();
+  return true;
 }
+
+std::size_t H26xDecoder::in_flight() const { return state_->in_flight.size(); }
 
 // ---------------------------------------------------------------------------------------------
 // Encoder

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "tofnav/io/io_error.hpp"
 #include "tofnav/recording/hl2ss_video_planes.hpp"
 
 namespace tofnav {
@@ -29,28 +30,53 @@ struct H26xUnitPlace {
   std::filesystem::path source;
   std::uint64_t offset = 0;
   std::size_t frame = 0;
+  std::size_t bytes = 0;  // the unit's size (set by H26xDecoder::Send)
 };
 
 /// A strict decoder: a unit that does not decode cleanly into exactly one 512 x 512 4:2:0 picture
 /// throws IoError naming the place, and so does a first unit that is not a key frame. After an
 /// error the decoder must be Reset() (and fed from a key frame) before it is used again.
+///
+/// With `frame_threads` > 1 libavcodec decodes that many units at once (a recording read ahead:
+/// 1.5 times the pictures per second on two cores, docs/benchmarks.md) and a picture comes out
+/// up to frame_threads - 1 units after its own: Send units, Receive pictures (oldest first), and
+/// SendEnd at the stream's end to get the last ones. An error names the oldest unit in flight,
+/// whose picture it is. One thread: Decode, or Send then Receive, gives each picture at once (a
+/// live stream's latency).
 class H26xDecoder {
  public:
-  explicit H26xDecoder(H26xCodec codec);
+  explicit H26xDecoder(H26xCodec codec, int frame_threads = 1);
   ~H26xDecoder();
   H26xDecoder(const H26xDecoder&) = delete;
   H26xDecoder& operator=(const H26xDecoder&) = delete;
 
   Yuv420Picture Decode(std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place);
-  /// Forgets every reference picture: the next unit must be a key frame.
+  /// The same into `picture`, whose planes are reused when they have the picture's size (a
+  /// decoder fed 45 pictures a second allocates nothing per picture; docs/benchmarks.md).
+  void Decode(std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place,
+              Yuv420Picture& picture);
+  void Send(std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place);
+  /// No unit follows: the pictures in flight come out of Receive. Send again only after Reset.
+  void SendEnd();
+  /// The oldest unit's picture into `picture` (planes reused); false while none is ready (send
+  /// the next unit, or SendEnd) or none is in flight.
+  bool Receive(Yuv420Picture& picture);
+  /// Units sent whose pictures have not come out.
+  std::size_t in_flight() const;
+  /// Forgets every reference picture and every unit in flight: the next unit must be a key frame.
   void Reset();
   H26xCodec codec() const { return codec_; }
+  int frame_threads() const { return frame_threads_; }
 
  private:
   struct State;
+  IoError Failure(const H26xUnitPlace& place, std::size_t bytes, const std::string& what) const;
+  [[noreturn]] void Fail(const std::string& what);
   H26xCodec codec_;
+  int frame_threads_;
   std::unique_ptr<State> state_;
   bool started_ = false;
+  bool ended_ = false;
 };
 
 struct H26xEncoderOptions {

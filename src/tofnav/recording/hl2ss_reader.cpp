@@ -255,28 +255,56 @@ double Hl2ssRecording::payload_bytes_per_frame() const {
   return static_cast<double>(bytes) / static_cast<double>(index_.size());
 }
 
+// Frame threads of a recording's decoder: reading ahead, two cores decode 1.5 times the pictures
+// a second of one (SAME+H265 at the client's bitrate, docs/benchmarks.md); a recording has no
+// latency to keep, unlike a live stream (one thread, stream/).
+constexpr int kReadAheadThreads = 2;
+
 AhatFrame Hl2ssRecording::ReadVideoFrame(std::size_t index) const {
   At(index);  // range check
-  if (!video_) video_ = std::make_unique<Hl2ssVideoDecoder>(config_);
-  // Decode on from the last frame read when no key frame lies between; else from the key frame
-  // at or before `index` (or from frame 0, whose unit must then be one).
+  if (!video_) video_ = std::make_unique<Hl2ssVideoDecoder>(config_, kReadAheadThreads);
+  // Go on from the last frame read when no key frame lies between; else from the key frame at or
+  // before `index` (or from frame 0, whose unit must then be one).
   std::size_t start = index;
   while (start > 0 && !index_[start].key) --start;
-  if (next_video_frame_ != kNone && next_video_frame_ <= index && next_video_frame_ > start) {
-    start = next_video_frame_;
-  } else {
+  std::size_t out = next_video_frame_, unit = next_video_unit_;
+  if (out == kNone || out > index || out < start) {
     video_->Reset();
+    out = unit = start;
   }
-  next_video_frame_ = kNone;  // until the decode below has succeeded
-  std::vector<std::uint8_t> unit;
-  for (std::size_t i = start; i < index; ++i) {
-    const Packet& skipped = index_[i];
-    unit.resize(skipped.size_ab);
-    ReadAt(AbBlobOffset(skipped), unit, "access unit");
-    video_->Advance(unit, {path_, AbBlobOffset(skipped), i});
+  next_video_frame_ = next_video_unit_ = kNone;  // until the decode below has succeeded
+  std::vector<std::uint8_t> bytes;
+  bool ended = false;
+  for (;;) {
+    if (video_->ReceivePicture()) {
+      if (out++ == index) break;
+      continue;  // a frame on the way to `index`: its picture is a reference only
+    }
+    if (unit < index_.size()) {  // no picture out yet: send the next unit, or end the stream
+      const Packet& packet = index_[unit];
+      bytes.resize(packet.size_ab);
+      ReadAt(AbBlobOffset(packet), bytes, "access unit");
+      video_->Send(bytes, {path_, AbBlobOffset(packet), unit});
+      ++unit;
+    } else if (video_->in_flight() > 0 && !ended) {
+      video_->SendEnd();
+      ended = true;
+    } else {
+      throw std::logic_error("Hl2ssRecording: no picture in flight for frame " +
+                             std::to_string(index));
+    }
   }
-  AhatFrame frame = ReadFrameWith(index, *video_);
+  const Packet& packet = index_[index];
+  const std::uint64_t zdepth_offset = AbBlobOffset(packet) - packet.size_z;
+  bytes.resize(packet.size_z);
+  ReadAt(zdepth_offset, bytes, "Zdepth stream");
+  AhatFrame frame;
+  frame.host_ticks = packet.timestamp;
+  video_->FillFrame(bytes, zdepth_offset, path_, frame);
+  ZeroInvalidRange(frame.range_mm);
+  ReadTail(packet, AbBlobOffset(packet) + packet.size_ab, frame);
   next_video_frame_ = index + 1;
+  next_video_unit_ = unit;
   return frame;
 }
 

@@ -88,14 +88,25 @@ H26xEncoderOptions Hl2ssEncoderSettings(const Hl2ssAhatConfig& config);
 /// recording reader and the live client.
 class Hl2ssVideoDecoder {
  public:
-  explicit Hl2ssVideoDecoder(const Hl2ssAhatConfig& config);
+  /// `frame_threads` > 1: pictures come out of ReceivePicture up to that many units late (a
+  /// recording read ahead; H26xDecoder).
+  explicit Hl2ssVideoDecoder(const Hl2ssAhatConfig& config, int frame_threads = 1);
   /// Fills frame.range_mm, frame.ab and the precision flags from the packet's Zdepth blob (empty
-  /// for SAME; it starts at byte `zdepth_offset` of `place.source`) and its access unit.
+  /// for SAME; it starts at byte `zdepth_offset` of `place.source`) and its access unit. One
+  /// frame thread only.
   void Decode(std::span<const std::uint8_t> zdepth, std::uint64_t zdepth_offset,
               std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place,
               AhatFrame& frame);
-  /// Decodes a unit only to keep the reference pictures (frames skipped on the way to a seek).
-  void Advance(std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place);
+  /// Read ahead: send units, receive their pictures oldest first (false: not out yet), then fill
+  /// the frame of the picture received last from its packet's Zdepth blob.
+  void Send(std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place) {
+    decoder_.Send(access_unit, place);
+  }
+  void SendEnd() { decoder_.SendEnd(); }
+  bool ReceivePicture() { return decoder_.Receive(picture_); }
+  std::size_t in_flight() const { return decoder_.in_flight(); }
+  void FillFrame(std::span<const std::uint8_t> zdepth, std::uint64_t zdepth_offset,
+                 const std::filesystem::path& source, AhatFrame& frame) const;
   /// After an error or a seek: the next unit must be a key frame.
   void Reset() { decoder_.Reset(); }
   H26xCodec codec() const { return decoder_.codec(); }
@@ -103,6 +114,7 @@ class Hl2ssVideoDecoder {
  private:
   Hl2ssDepthProfile profile_z_;
   H26xDecoder decoder_;
+  Yuv420Picture picture_;  // the last picture received, reused: no allocation per frame
 };
 
 /// An hl2ss AHAT recording. Opening reads only the header and the packet headers (a RAW file is
@@ -181,8 +193,9 @@ class Hl2ssRecording : public AhatRecording {
   bool truncated_tail_ = false;
   // H26x: the decoder and the index of the frame it decodes next (kNone: it must be reset).
   static constexpr std::size_t kNone = static_cast<std::size_t>(-1);
-  mutable std::unique_ptr<Hl2ssVideoDecoder> video_;
-  mutable std::size_t next_video_frame_ = kNone;
+  mutable std::unique_ptr<Hl2ssVideoDecoder> video_;  // reads ahead (kReadAheadThreads)
+  mutable std::size_t next_video_frame_ = kNone;      // the next picture video_ gives
+  mutable std::size_t next_video_unit_ = kNone;       // the next unit to send it
 };
 
 /// Opens an hl2ss AHAT recording; IoError when it is not one.

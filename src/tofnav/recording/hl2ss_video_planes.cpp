@@ -95,8 +95,12 @@ Yuv420Picture PackHl2ssZdepthPicture(const Image<std::uint16_t>& ab) {
 
 void UnpackHl2ssSamePicture(const Yuv420Picture& picture, Image<std::uint16_t>& range_mm,
                             Image<std::uint16_t>& ab) {
-  range_mm = Image<std::uint16_t>(kAhatWidth, kAhatHeight);
-  ab = Image<std::uint16_t>(kAhatWidth, kAhatHeight);
+  // Every pixel is written below: images of the right size are reused, not cleared.
+  for (Image<std::uint16_t>* image : {&range_mm, &ab}) {
+    if (image->width() != kAhatWidth || image->height() != kAhatHeight) {
+      *image = Image<std::uint16_t>(kAhatWidth, kAhatHeight);
+    }
+  }
   const std::span<const std::uint8_t> y = picture.y.pixels();
   std::span<std::uint16_t> range = range_mm.pixels();
   for (std::size_t i = 0; i < y.size(); ++i) range[i] = static_cast<std::uint16_t>(4u * y[i]);
