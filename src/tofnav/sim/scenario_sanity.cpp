@@ -153,12 +153,15 @@ class Prober {
   std::vector<bool> closed_;
 };
 
-// Slot 0 and every mount's key slots below the frame count, earliest `max_slots`.
+// Slot 0 and every mount's key slots within the slots the frames span, earliest `max_slots`. A
+// run that keeps every n-th slot (timing.slot_stride) spans n slots a frame: its frames show the
+// motion's later keys too (dropped and throttled slots stretch it further; not counted here).
 std::vector<std::int64_t> CheckedSlots(const Scenario& s, int max_slots) {
+  const std::int64_t spanned = s.frames * std::max<std::int64_t>(1, s.timing.slot_stride);
   std::vector<std::int64_t> slots = {0};
   for (const Mount& m : s.mounts) {
     for (const std::int64_t slot : MotionKeySlots(m.motion)) {
-      if (slot < s.frames) slots.push_back(slot);
+      if (slot < spanned) slots.push_back(slot);
     }
   }
   std::sort(slots.begin(), slots.end());

@@ -11,6 +11,7 @@
 
 #include "tofnav/core/require.hpp"
 #include "tofnav/core/rotation_vector.hpp"
+#include "tofnav/sim/evd_occluders.hpp"
 #include "tofnav/sim/material.hpp"
 #include "tofnav/sim/shapes.hpp"
 
@@ -134,6 +135,7 @@ void ApplyVariation(const ScenarioVariation& v, Scenario& s) {
   }
   if (v.tools == ReferenceTools::kSpheres) {
     for (const int t : references) TapeToSpheres(s.scene.tools[static_cast<std::size_t>(t)]);
+    ClearEvdHandOverTools(s);  // spheres on posts reach higher than tape: the hand passes above
   } else if (v.tools == ReferenceTools::kSingleTool && references.size() > 1) {
     const std::string keep = s.scene.tools[static_cast<std::size_t>(references.front())].name;
     std::vector<std::string> plates;

@@ -8,7 +8,9 @@
 #include <cmath>
 
 #include "tofnav/core/require.hpp"
+#include "tofnav/sim/evd_occluders.hpp"
 #include "tofnav/sim/scenario_builtins.hpp"
+#include "tofnav/sim/scenario_sanity.hpp"
 
 namespace tofnav::sim {
 namespace {
@@ -37,6 +39,61 @@ TEST(ScenarioVariation, SpheresSitOnPostsAboveTheSameLayout) {
       EXPECT_NEAR(rise.dot(disc.normal_in_tool), 8.0 + 5.75 - 0.1, 1e-9);  // discs float 0.1 mm
     }
   }
+}
+
+// The hand's keyframe at `slot` (world_from_mount).
+Rigid3d HandAt(const Scenario& s, std::int64_t slot) {
+  for (const Keyframe& k :
+       s.mounts[static_cast<std::size_t>(s.FindMount("hand_motion"))].motion.keyframes) {
+    if (k.slot == slot) return k.pose;
+  }
+  ADD_FAILURE() << "no hand keyframe at slot " << slot;
+  return Rigid3d::Identity();
+}
+
+TEST(ScenarioVariation, TheHandPassesAboveSpheresOnPostsAtEverySlotTheFramesSpan) {
+  Scenario tape = BuiltinScenario("evd-usecase");
+  tape.frames = 90;  // the suite's short run: every 7th slot of 630
+  tape.timing.slot_stride = 7;
+  Scenario spheres = tape;
+  ApplyVariation({.tools = ReferenceTools::kSpheres}, spheres);
+  // Tape: the palm's axis 35 mm over reference_right, as placed (the discs stay clear of it).
+  EXPECT_TRUE(FindMarkerIntersections(tape).empty());
+  for (std::size_t t = 0; t < tape.scene.tools.size(); ++t) {
+    if (tape.scene.tools[t].name != "reference_right") continue;
+    const Rigid3d& mount_from_tool = tape.scene.tools[t].scene_from_tool;
+    const Rigid3d& world_from_mount =
+        tape.mounts[static_cast<std::size_t>(tape.tool_mounts[t])].motion.start;
+    const Eigen::Vector3d normal = mount_from_tool.rotation * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d palm =
+        (world_from_mount.Inverse() * HandAt(tape, kEvdHandReferenceSlot + 10)).translation -
+        mount_from_tool.translation;
+    EXPECT_NEAR(palm.dot(normal), 35.0, 1e-9);  // exact: the pose as built
+  }
+  // Spheres on posts (19.4 mm high) would reach 5-7 mm into the hovering hand at slot 460; the
+  // pass is lifted along the plate's normal until none does (tolerance 0.5 mm, the check's own).
+  const std::int64_t hover = kEvdHandReferenceSlot + 10;
+  const Eigen::Vector3d lift = HandAt(spheres, hover).translation - HandAt(tape, hover).translation;
+  EXPECT_GT(lift.norm(), 5.0);
+  EXPECT_LT(lift.norm(), 15.0);
+  EXPECT_EQ(HandAt(spheres, kEvdHandForeheadSlot).translation,
+            HandAt(tape, kEvdHandForeheadSlot).translation);  // the other pass stays
+  EXPECT_TRUE(FindMarkerIntersections(spheres).empty());
+  // The same spheres under the unlifted hand: found at the hover's slot, which only the stride
+  // brings within the 90 frames.
+  Scenario unlifted = spheres;
+  for (Keyframe& k : unlifted.mounts[static_cast<std::size_t>(unlifted.FindMount("hand_motion"))]
+                         .motion.keyframes) {
+    if (k.slot >= kEvdHandReferenceSlot && k.slot <= kEvdHandReferenceSlot + 34) {
+      k.pose.translation -= lift;
+    }
+  }
+  const std::vector<MarkerIntersection> found = FindMarkerIntersections(unlifted);
+  ASSERT_FALSE(found.empty());
+  EXPECT_GE(found.front().slot, kEvdHandReferenceSlot);
+  EXPECT_GT(found.front().depth_mm, 3.0);
+  unlifted.timing.slot_stride = 1;  // 90 frames of consecutive slots never reach the pass
+  EXPECT_TRUE(FindMarkerIntersections(unlifted).empty());
 }
 
 TEST(ScenarioVariation, ASingleToolDropsTheOtherToolAndItsPlate) {
