@@ -136,8 +136,13 @@ struct H26xDecoder::State {
   ContextPtr context;
   FramePtr frame{av_frame_alloc()};
   PacketPtr packet{av_packet_alloc()};
-  std::vector<std::uint8_t> padded;     // libavcodec reads up to 64 bytes past the unit's end
-  std::deque<H26xUnitPlace> in_flight;  // sent units whose pictures have not come out, oldest first
+  std::vector<std::uint8_t> padded;  // libavcodec reads up to 64 bytes past the unit's end
+  struct Unit {
+    H26xUnitPlace place;
+    std::int64_t pts;  // numbered by Send: a picture's pts names the unit it came from
+  };
+  std::deque<Unit> in_flight;  // sent units whose pictures have not come out, oldest first
+  std::int64_t next_pts = 0;
   DecoderLog log;
 
   // The library's last error line since the last call, as " (libavcodec: ...)", or "".
@@ -225,7 +230,8 @@ void H26xDecoder::Send(std::span<const std::uint8_t> access_unit, const H26xUnit
   State& s = *state_;
   H26xUnitPlace sent = place;
   sent.bytes = access_unit.size();
-  s.in_flight.push_back(std::move(sent));
+  s.in_flight.push_back({std::move(sent), s.next_pts});
+  s.packet->pts = s.next_pts++;
   s.padded.assign(access_unit.size() + AV_INPUT_BUFFER_PADDING_SIZE, 0);
   std::copy(access_unit.begin(), access_unit.end(), s.padded.begin());
   s.packet->data = s.padded.data();
@@ -250,7 +256,7 @@ void H26xDecoder::SendEnd() {
 
 void H26xDecoder::Fail(const std::string& what) {
   State& s = *state_;
-  const H26xUnitPlace place = s.in_flight.empty() ? H26xUnitPlace{} : s.in_flight.front();
+  const H26xUnitPlace place = s.in_flight.empty() ? H26xUnitPlace{} : s.in_flight.front().place;
   throw Failure(place, place.bytes, what + s.TakeLibraryError());
 }
 
@@ -264,6 +270,11 @@ bool H26xDecoder::Receive(Yuv420Picture& picture) {
   }
   if (received < 0) Fail("does not decode: " + ErrorText(received));
   const AVFrame& frame = *s.frame;
+  if (frame.pts != AV_NOPTS_VALUE && frame.pts > s.in_flight.front().pts) {
+    // An older unit gave no picture (a unit without a slice): it fails, not this picture.
+    av_frame_unref(s.frame.get());
+    Fail("gave no picture (a stream with reordered frames or a unit without a slice?)");
+  }
   if ((frame.flags & AV_FRAME_FLAG_CORRUPT) != 0 || frame.decode_error_flags != 0) {
     av_frame_unref(s.frame.get());
     Fail("decodes to a damaged picture");

@@ -100,6 +100,50 @@ TEST_P(H26xFrameThreads, AnErrorNamesTheUnitItBelongsTo) {
   EXPECT_THAT(message, ::testing::HasSubstr(" (libavcodec: "));
 }
 
+// The bytes of `unit` before its first slice: its delimiter and parameter sets only.
+std::vector<std::uint8_t> HeadersOnly(H26xCodec codec, const std::vector<std::uint8_t>& unit) {
+  for (std::size_t i = 3; i + 1 < unit.size(); ++i) {
+    if (unit[i] != 1 || unit[i - 1] != 0 || unit[i - 2] != 0) continue;
+    const int type = codec == H26xCodec::kH264 ? unit[i + 1] & 0x1F : (unit[i + 1] >> 1) & 0x3F;
+    const bool slice = codec == H26xCodec::kH264 ? (type >= 1 && type <= 5) : type <= 21;
+    if (slice) {
+      const std::size_t start = i >= 3 && unit[i - 3] == 0 ? i - 3 : i - 2;
+      return {unit.begin(), unit.begin() + static_cast<std::ptrdiff_t>(start)};
+    }
+  }
+  return unit;
+}
+
+TEST_P(H26xFrameThreads, AUnitWithoutAPictureIsNamedNotTheNextOne) {
+  const auto encoded = Units(GetParam(), 4);
+  // Unit 1 carries parameter sets and no slice: no picture comes of it.
+  const std::vector<std::vector<std::uint8_t>> units = {
+      encoded[0], HeadersOnly(GetParam(), encoded[0]), encoded[1], encoded[2], encoded[3]};
+  ASSERT_LT(units[1].size(), units[0].size());
+  for (const int threads : {1, 2}) {
+    H26xDecoder decoder(GetParam(), threads);
+    Yuv420Picture picture;
+    std::size_t out = 0;
+    std::string message;
+    try {
+      for (std::size_t i = 0; i < units.size(); ++i) {
+        decoder.Send(units[i], PlaceOf(i));
+        while (decoder.Receive(picture)) ++out;
+      }
+      decoder.SendEnd();
+      while (decoder.Receive(picture)) ++out;
+    } catch (const IoError& e) {
+      message = e.what();
+    }
+    EXPECT_EQ(out, 1u) << threads;  // picture 0, then the unit without one stops the stream
+    EXPECT_THAT(message, ::testing::StartsWith("units.bin: at byte 1000: frame 1: ")) << threads;
+    // H.265 gives no picture; H.264 says so itself ("no frame!"): either way unit 1 is named.
+    EXPECT_THAT(message, ::testing::AnyOf(::testing::HasSubstr(" gave no picture"),
+                                          ::testing::HasSubstr(" does not decode: ")))
+        << threads;
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Codecs, H26xFrameThreads,
                          ::testing::Values(H26xCodec::kH265, H26xCodec::kH264),
                          [](const auto& test) {
