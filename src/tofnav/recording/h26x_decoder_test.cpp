@@ -40,6 +40,25 @@ std::vector<std::vector<std::uint8_t>> Units(H26xCodec codec, int count) {
 
 H26xUnitPlace PlaceOf(std::size_t frame) { return {"units.bin", 1000 * frame, frame}; }
 
+// Sends every unit and then the end, counting the pictures out in `out`: the IoError's message,
+// or "" when every unit decoded.
+std::string SendAll(H26xCodec codec, int threads,
+                    const std::vector<std::vector<std::uint8_t>>& units, std::size_t& out) {
+  H26xDecoder decoder(codec, threads);
+  Yuv420Picture picture;
+  try {
+    for (std::size_t i = 0; i < units.size(); ++i) {
+      decoder.Send(units[i], PlaceOf(i));
+      while (decoder.Receive(picture)) ++out;
+    }
+    decoder.SendEnd();
+    while (decoder.Receive(picture)) ++out;
+  } catch (const IoError& e) {
+    return e.what();
+  }
+  return "";
+}
+
 class H26xFrameThreads : public ::testing::TestWithParam<H26xCodec> {};
 
 TEST_P(H26xFrameThreads, GiveEveryPictureInOrderAtMostOneUnitLate) {
@@ -77,20 +96,8 @@ TEST_P(H26xFrameThreads, AnErrorNamesTheUnitItBelongsTo) {
   for (std::size_t i = 6; i < units[3].size(); ++i) {
     units[3][i] = static_cast<std::uint8_t>(0xFF ^ (i * 37));
   }
-  H26xDecoder two(GetParam(), 2);
-  Yuv420Picture picture;
   std::size_t out = 0;
-  std::string message;
-  try {
-    for (std::size_t i = 0; i < units.size(); ++i) {
-      two.Send(units[i], PlaceOf(i));
-      while (two.Receive(picture)) ++out;
-    }
-    two.SendEnd();
-    while (two.Receive(picture)) ++out;
-  } catch (const IoError& e) {
-    message = e.what();
-  }
+  const std::string message = SendAll(GetParam(), 2, units, out);
   EXPECT_EQ(out, 3u);  // pictures 0-2 came out before the damaged one
   const std::string codec = GetParam() == H26xCodec::kH265 ? "H.265" : "H.264";
   EXPECT_THAT(message, ::testing::StartsWith("units.bin: at byte 3000: frame 3: " + codec +
@@ -121,20 +128,8 @@ TEST_P(H26xFrameThreads, AUnitWithoutAPictureIsNamedNotTheNextOne) {
       encoded[0], HeadersOnly(GetParam(), encoded[0]), encoded[1], encoded[2], encoded[3]};
   ASSERT_LT(units[1].size(), units[0].size());
   for (const int threads : {1, 2}) {
-    H26xDecoder decoder(GetParam(), threads);
-    Yuv420Picture picture;
     std::size_t out = 0;
-    std::string message;
-    try {
-      for (std::size_t i = 0; i < units.size(); ++i) {
-        decoder.Send(units[i], PlaceOf(i));
-        while (decoder.Receive(picture)) ++out;
-      }
-      decoder.SendEnd();
-      while (decoder.Receive(picture)) ++out;
-    } catch (const IoError& e) {
-      message = e.what();
-    }
+    const std::string message = SendAll(GetParam(), threads, units, out);
     EXPECT_EQ(out, 1u) << threads;  // picture 0, then the unit without one stops the stream
     EXPECT_THAT(message, ::testing::StartsWith("units.bin: at byte 1000: frame 1: ")) << threads;
     // H.265 gives no picture; H.264 says so itself ("no frame!"): either way unit 1 is named.
