@@ -6,20 +6,22 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "tofnav/core/dense_solvers.hpp"
 #include "tofnav/core/require.hpp"
 #include "tofnav/sim/head_phantom.hpp"
 #include "tofnav/sim/occluders.hpp"
+#include "tofnav/sim/scenario_sanity.hpp"
 
 namespace tofnav::sim {
 namespace {
 
-constexpr std::int64_t kMoveSlots = 10;    // about 0.2 s in, 0.2 s out (0.5-1.5 m/s)
-constexpr std::int64_t kHoverSlots = 14;   // over reference_right
+constexpr std::int64_t kMoveSlots = 10;   // about 0.2 s in, 0.2 s out (0.5-1.5 m/s)
+constexpr std::int64_t kHoverSlots = 14;  // the hand over reference_right
+constexpr std::int64_t kInstrumentHoverSlots = 18;
 constexpr double kHandOverSkinMm = 70.0;   // hand axis above the forehead
 constexpr double kHandOverToolMm = 35.0;   // the palm's axis over reference_right's plate
 constexpr double kArrayOverToolMm = 25.0;  // the instrument's marker plane over reference_left's
@@ -44,48 +46,6 @@ Eigen::Vector3d Across(const Eigen::Vector3d& v, const Eigen::Vector3d& n) {
   return (v - v.dot(n) * n).normalized();
 }
 
-// The palm axis's height over a tool's plate (its z = 0 plane) for a hand hovering along unit
-// `axis_in_tool` (in the plate) with its middle over the tool's origin: kHandOverToolMm, or as
-// high as keeps every marker out of the hand and the forearm (HandMesh's two capsules, both along
-// the axis): a sphere by its centre and radius, a disc by its centre and rim. Spheres on posts
-// reach 19.4 mm above the plate, higher than the 12.5 mm the default leaves under the palm.
-double HandOverToolMm(const Tool& tool, const Eigen::Vector3d& axis_in_tool, double hand_middle_mm,
-                      const HandOptions& hand) {
-  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(axis_in_tool);
-  const double wrist = -hand_middle_mm;  // along the axis, from the tool's origin
-  struct Capsule {
-    double from, to, radius;
-  };
-  const double forearm_r = 0.5 * hand.forearm_diameter_mm, hand_r = 0.5 * hand.hand_diameter_mm;
-  const Capsule capsules[] = {
-      {wrist, wrist + hand.hand_length_mm - hand.hand_diameter_mm, hand_r},
-      {wrist - hand.forearm_length_mm + forearm_r, wrist - forearm_r, forearm_r}};
-  double height = kHandOverToolMm;
-  const auto keep_out = [&](const Eigen::Vector3d& p, double r) {
-    const double along = p.dot(axis_in_tool), side = p.dot(across);
-    for (const Capsule& c : capsules) {
-      const double gap = std::max({0.0, c.from - along, along - c.to});
-      const double reach = c.radius + r, lateral_sq = gap * gap + side * side;
-      if (lateral_sq < reach * reach) {
-        height = std::max(height, p.z() + std::sqrt(reach * reach - lateral_sq));
-      }
-    }
-  };
-  for (const Marker& m : tool.markers) {
-    if (m.shape == MarkerShape::kSphere) {
-      keep_out(m.centre_in_tool, 0.5 * m.diameter_mm);
-      continue;
-    }
-    keep_out(m.centre_in_tool, 0.0);
-    const Eigen::Vector3d u = m.normal_in_tool.unitOrthogonal(), v = m.normal_in_tool.cross(u);
-    for (int k = 0; k < 16; ++k) {
-      const double a = 2.0 * std::numbers::pi * k / 16.0;
-      keep_out(m.centre_in_tool + 0.5 * m.diameter_mm * (std::cos(a) * u + std::sin(a) * v), 0.0);
-    }
-  }
-  return height;
-}
-
 int ToolIndex(const Scenario& s, const char* name) {
   for (std::size_t t = 0; t < s.scene.tools.size(); ++t) {
     if (s.scene.tools[t].name == name) return static_cast<int>(t);
@@ -93,11 +53,41 @@ int ToolIndex(const Scenario& s, const char* name) {
   return -1;
 }
 
-// reference_right's plate normal and the hand's axis over it (mount frame; both AddEvdOccluders
-// and ClearEvdHandOverTools).
-std::pair<Eigen::Vector3d, Eigen::Vector3d> RightNormalAndHandAxis(const Tool& right) {
-  const Eigen::Vector3d normal = right.scene_from_tool.rotation * Eigen::Vector3d::UnitZ();
-  return {normal, Across(-Eigen::Vector3d::UnitY(), normal)};  // the hand points to the face
+// Lifts the keyframes of `mount`'s pass (slots first..last) along `up` by the least lift (to 0.25
+// mm; at most 64 mm) with which no marker reaches into an object on that mount at those slots, as
+// simulate's own check sees it (FindMarkerIntersections, here with no tolerance).
+void LiftPassClear(Scenario& s, int mount, std::int64_t first, std::int64_t last,
+                   const Eigen::Vector3d& up) {
+  std::vector<Keyframe>& keys = s.mounts[static_cast<std::size_t>(mount)].motion.keyframes;
+  const auto shift = [&](double lift_mm) {
+    for (Keyframe& k : keys) {
+      if (k.slot >= first && k.slot <= last) k.pose.translation += lift_mm * up;
+    }
+  };
+  MarkerClearanceOptions options;
+  options.tolerance_mm = 0.0;
+  options.max_slots = 4096;
+  const auto blocked = [&](double lift_mm) {
+    shift(lift_mm);
+    bool hit = false;
+    for (const MarkerIntersection& m : FindMarkerIntersections(s, options)) {
+      hit = hit || (m.slot >= first && m.slot <= last &&
+                    s.object_mounts[static_cast<std::size_t>(m.object)] == mount);
+    }
+    shift(-lift_mm);
+    return hit;
+  };
+  if (!blocked(0.0)) return;
+  double low = 0.0, high = 8.0;
+  while (high < 64.0 && blocked(high)) {
+    low = high;
+    high *= 2.0;
+  }
+  while (high - low > 0.25) {
+    const double middle = 0.5 * (low + high);
+    (blocked(middle) ? low : high) = middle;
+  }
+  shift(high);
 }
 
 }  // namespace
@@ -133,17 +123,16 @@ void AddEvdOccluders(Scenario& s, const PatientHead& head, int headframe, int re
   forehead_pass.approach_mm = world_shift({-300.0, 0.0, 0.0});
   forehead_pass.leave_mm = world_shift({-300.0, 0.0, 60.0});
 
-  const Tool& right_tool = NamedTool(s, "reference_right");
-  const Rigid3d& right = right_tool.scene_from_tool;
-  const auto [right_normal, hand_axis] = RightNormalAndHandAxis(right_tool);
-  const double over_tool_mm = HandOverToolMm(right_tool, right.rotation.inverse() * hand_axis,
-                                             hand_middle_mm, hand_options);
+  const Rigid3d& right = NamedTool(s, "reference_right").scene_from_tool;
+  const Eigen::Vector3d right_normal = right.rotation * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d hand_axis = Across(-Eigen::Vector3d::UnitY(), right_normal);  // to the face
   Pass reference_pass;
   reference_pass.enter_slot = kEvdHandReferenceSlot;
   reference_pass.move_slots = kMoveSlots;
   reference_pass.hover_slots = kHoverSlots;
-  reference_pass.hover = world({AlongX(hand_axis), right.translation + over_tool_mm * right_normal -
-                                                       hand_middle_mm * hand_axis});
+  reference_pass.hover =
+      world({AlongX(hand_axis),
+             right.translation + kHandOverToolMm * right_normal - hand_middle_mm * hand_axis});
   reference_pass.approach_mm = world_shift(-250.0 * hand_axis);
   reference_pass.leave_mm = world_shift(-250.0 * hand_axis + Eigen::Vector3d(0.0, 0.0, 60.0));
 
@@ -166,7 +155,7 @@ void AddEvdOccluders(Scenario& s, const PatientHead& head, int headframe, int re
   Pass instrument_pass;
   instrument_pass.enter_slot = kEvdInstrumentSlot;
   instrument_pass.move_slots = kMoveSlots;
-  instrument_pass.hover_slots = 18;
+  instrument_pass.hover_slots = kInstrumentHoverSlots;
   instrument_pass.hover =
       world({Eigen::Quaterniond(tool_axes), hover_centre - tool_axes * array_centre_in_tool});
   instrument_pass.approach_mm = world_shift({250.0, 0.0, 150.0});  // from the left, above
@@ -182,33 +171,28 @@ void AddEvdOccluders(Scenario& s, const PatientHead& head, int headframe, int re
 }
 
 void ClearEvdHandOverTools(Scenario& s) {
-  const int hand_mount = s.FindMount("hand_motion");
-  const int right = ToolIndex(s, "reference_right");
-  if (hand_mount < 0 || right < 0) return;
-  const Tool& tool = s.scene.tools[static_cast<std::size_t>(right)];
-  const int tool_mount = s.tool_mounts[static_cast<std::size_t>(right)];
-  const Rigid3d world_from_mount =
-      tool_mount < 0 ? Rigid3d::Identity()
-                     : s.mounts[static_cast<std::size_t>(tool_mount)].motion.start;
-  const auto [normal, hand_axis] = RightNormalAndHandAxis(tool);
-  const HandOptions hand;
-  const double middle = 0.5 * (hand.hand_length_mm - hand.hand_diameter_mm);
-  const double needed =
-      HandOverToolMm(tool, tool.scene_from_tool.rotation.inverse() * hand_axis, middle, hand);
-  Motion& motion = s.mounts[static_cast<std::size_t>(hand_mount)].motion;
-  // The pass over reference_right: its four keyframes from entering to leaving (PassesMotion).
-  const std::int64_t first = kEvdHandReferenceSlot, last = first + 2 * kMoveSlots + kHoverSlots;
-  double height = needed;
-  for (const Keyframe& k : motion.keyframes) {
-    if (k.slot == first + kMoveSlots) {  // the hover: the palm axis's height over the plate
-      height = (world_from_mount.Inverse() * k.pose).translation.dot(normal) -
-               tool.scene_from_tool.translation.dot(normal);
-    }
-  }
-  if (needed <= height) return;
-  const Eigen::Vector3d lift = (needed - height) * (world_from_mount.rotation * normal);
-  for (Keyframe& k : motion.keyframes) {
-    if (k.slot >= first && k.slot <= last) k.pose.translation += lift;
+  // The pass over each reference plate (PassesMotion's four keyframes, entering to leaving), lifted
+  // along the plate's normal where it is at the hover (a drifting patient carries it).
+  struct Over {
+    const char* mount;
+    const char* tool;
+    std::int64_t first, hover_slots;
+  };
+  for (const Over& o :
+       {Over{"hand_motion", "reference_right", kEvdHandReferenceSlot, kHoverSlots},
+        Over{"instrument_motion", "reference_left", kEvdInstrumentSlot, kInstrumentHoverSlots}}) {
+    const int mount = s.FindMount(o.mount), tool = ToolIndex(s, o.tool);
+    if (mount < 0 || tool < 0) continue;
+    const int tool_mount = s.tool_mounts[static_cast<std::size_t>(tool)];
+    const Rigid3d world_from_mount =
+        tool_mount < 0 ? Rigid3d::Identity()
+                       : MotionPose(s.mounts[static_cast<std::size_t>(tool_mount)].motion,
+                                    o.first + kMoveSlots, s.timing.rate_hz, 0);
+    const Eigen::Vector3d up =
+        world_from_mount.rotation *
+        s.scene.tools[static_cast<std::size_t>(tool)].scene_from_tool.rotation *
+        Eigen::Vector3d::UnitZ();
+    LiftPassClear(s, mount, o.first, o.first + 2 * kMoveSlots + o.hover_slots, up);
   }
 }
 

@@ -19,13 +19,15 @@ inline constexpr std::int64_t kEvdHandReferenceSlot = 450;
 /// Adds drape "drape" (on `headframe`), hand "hand" and instrument "instrument" (a spheres-four
 /// array on a rod, tools/instrument.json) around `head`, whose mount `headframe` is `image`
 /// moved to the anatomy centre. Needs the tools "reference_left" and "reference_right" on it.
-/// The hand hovers with its palm 35 mm over reference_right's plate, higher where the plate's
-/// markers would reach into it.
+/// The hand hovers with its palm's axis 35 mm over reference_right's plate (tape markers clear it
+/// by 12.5 mm).
 void AddEvdOccluders(Scenario& scenario, const PatientHead& head, int headframe, int retro);
 
-/// After reference_right's markers changed (tape to spheres on posts, ApplyVariation): lifts the
-/// hand's pass over it, along the plate's normal, until no marker reaches into the hand or its
-/// forearm. Nothing when the scenario has no hand or the pass already clears them.
+/// After the reference tools' markers or the patient's motion changed (spheres on posts, drift;
+/// ApplyVariation): lifts the hand's pass over reference_right and the instrument's over
+/// reference_left, along the plate's normal, until no marker reaches into the hand or the
+/// instrument at any of the pass's keyframes (the check simulate makes). Nothing where a pass
+/// clears them already or the scenario has no such occluder.
 void ClearEvdHandOverTools(Scenario& scenario);
 
 }  // namespace tofnav::sim

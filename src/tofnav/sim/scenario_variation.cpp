@@ -135,7 +135,6 @@ void ApplyVariation(const ScenarioVariation& v, Scenario& s) {
   }
   if (v.tools == ReferenceTools::kSpheres) {
     for (const int t : references) TapeToSpheres(s.scene.tools[static_cast<std::size_t>(t)]);
-    ClearEvdHandOverTools(s);  // spheres on posts reach higher than tape: the hand passes above
   } else if (v.tools == ReferenceTools::kSingleTool && references.size() > 1) {
     const std::string keep = s.scene.tools[static_cast<std::size_t>(references.front())].name;
     std::vector<std::string> plates;
@@ -188,6 +187,9 @@ void ApplyVariation(const ScenarioVariation& v, Scenario& s) {
     if (v.headset_min_range_mm >= 0.0) worn.min_range_mm = v.headset_min_range_mm;
     if (v.headset_max_range_mm >= 0.0) worn.max_range_mm = v.headset_max_range_mm;
   }
+  // Spheres on posts reach higher than tape, and a drifting patient carries the plate towards the
+  // hand hovering over it: the hand's pass is lifted until neither reaches into it.
+  ClearEvdHandOverTools(s);
   s.Check();
 }
 

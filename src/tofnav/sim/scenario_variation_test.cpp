@@ -96,6 +96,18 @@ TEST(ScenarioVariation, TheHandPassesAboveSpheresOnPostsAtEverySlotTheFramesSpan
   EXPECT_TRUE(FindMarkerIntersections(unlifted).empty());
 }
 
+TEST(ScenarioVariation, TheHandPassesAboveAPlateThatDriftsIntoItsPath) {
+  // The suite's phantom-everything: spheres, and the patient drifting 1 mm/s obliquely, 10.5 mm
+  // by the end of the hover (slot 474): lifted for the plate where it is then, not at slot 0.
+  for (const ReferenceTools tools : {ReferenceTools::kSpheres, ReferenceTools::kAsBuilt}) {
+    Scenario s = BuiltinScenario("evd-usecase");
+    s.frames = 90;
+    s.timing.slot_stride = 7;
+    ApplyVariation({.tools = tools, .head_drift_mm_per_s = 1.0}, s);
+    EXPECT_TRUE(FindMarkerIntersections(s).empty()) << static_cast<int>(tools);
+  }
+}
+
 TEST(ScenarioVariation, ASingleToolDropsTheOtherToolAndItsPlate) {
   Scenario s = BuiltinScenario("evd-usecase");
   ASSERT_EQ(CountReferences(s), 2);
