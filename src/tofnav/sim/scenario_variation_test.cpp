@@ -108,6 +108,22 @@ TEST(ScenarioVariation, TheHandPassesAboveAPlateThatDriftsIntoItsPath) {
   }
 }
 
+TEST(ScenarioVariation, TapeWithoutDriftLeavesEveryPassWhereItWas) {
+  // Tolerance none: the passes are only moved where a marker would reach into them.
+  const Scenario before = BuiltinScenario("evd-usecase");
+  Scenario after = before;
+  ApplyVariation({.surroundings = Surroundings::kPillow}, after);
+  for (const char* mount : {"hand_motion", "instrument_motion"}) {
+    const auto& a = after.mounts[static_cast<std::size_t>(after.FindMount(mount))].motion.keyframes;
+    const auto& b =
+        before.mounts[static_cast<std::size_t>(before.FindMount(mount))].motion.keyframes;
+    ASSERT_EQ(a.size(), b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      EXPECT_EQ(a[k].pose.translation, b[k].pose.translation) << mount << " " << k;
+    }
+  }
+}
+
 TEST(ScenarioVariation, ASingleToolDropsTheOtherToolAndItsPlate) {
   Scenario s = BuiltinScenario("evd-usecase");
   ASSERT_EQ(CountReferences(s), 2);
