@@ -294,15 +294,7 @@ AhatFrame Hl2ssRecording::ReadVideoFrame(std::size_t index) const {
                              std::to_string(index));
     }
   }
-  const Packet& packet = index_[index];
-  const std::uint64_t zdepth_offset = AbBlobOffset(packet) - packet.size_z;
-  bytes.resize(packet.size_z);
-  ReadAt(zdepth_offset, bytes, "Zdepth stream");
-  AhatFrame frame;
-  frame.host_ticks = packet.timestamp;
-  video_->FillFrame(bytes, zdepth_offset, path_, frame);
-  ZeroInvalidRange(frame.range_mm);
-  ReadTail(packet, AbBlobOffset(packet) + packet.size_ab, frame);
+  AhatFrame frame = VideoFrameOf(index, *video_);
   next_video_frame_ = index + 1;
   next_video_unit_ = unit;
   return frame;
@@ -311,14 +303,20 @@ AhatFrame Hl2ssRecording::ReadVideoFrame(std::size_t index) const {
 AhatFrame Hl2ssRecording::ReadFrameWith(std::size_t index, Hl2ssVideoDecoder& video) const {
   const Packet& packet = At(index);
   Require(config_.profile_ab != Hl2ssVideoProfile::kRaw, "ReadFrameWith: a RAW recording");
+  std::vector<std::uint8_t> unit(packet.size_ab);
+  ReadAt(AbBlobOffset(packet), unit, "access unit");
+  video.Decode(unit, {path_, AbBlobOffset(packet), index});
+  return VideoFrameOf(index, video);
+}
+
+AhatFrame Hl2ssRecording::VideoFrameOf(std::size_t index, const Hl2ssVideoDecoder& video) const {
+  const Packet& packet = index_[index];
   const std::uint64_t zdepth_offset = AbBlobOffset(packet) - packet.size_z;
   std::vector<std::uint8_t> zdepth(packet.size_z);
   ReadAt(zdepth_offset, zdepth, "Zdepth stream");
-  std::vector<std::uint8_t> unit(packet.size_ab);
-  ReadAt(AbBlobOffset(packet), unit, "access unit");
   AhatFrame frame;
   frame.host_ticks = packet.timestamp;
-  video.Decode(zdepth, zdepth_offset, unit, {path_, AbBlobOffset(packet), index}, frame);
+  video.FillFrame(zdepth, zdepth_offset, path_, frame);
   ZeroInvalidRange(frame.range_mm);
   ReadTail(packet, AbBlobOffset(packet) + packet.size_ab, frame);
   return frame;

@@ -91,14 +91,11 @@ class Hl2ssVideoDecoder {
   /// `frame_threads` > 1: pictures come out of ReceivePicture up to that many units late (a
   /// recording read ahead; H26xDecoder).
   explicit Hl2ssVideoDecoder(const Hl2ssAhatConfig& config, int frame_threads = 1);
-  /// Fills frame.range_mm, frame.ab and the precision flags from the packet's Zdepth blob (empty
-  /// for SAME; it starts at byte `zdepth_offset` of `place.source`) and its access unit. One
-  /// frame thread only.
-  void Decode(std::span<const std::uint8_t> zdepth, std::uint64_t zdepth_offset,
-              std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place,
-              AhatFrame& frame);
-  /// Read ahead: send units, receive their pictures oldest first (false: not out yet), then fill
-  /// the frame of the picture received last from its packet's Zdepth blob.
+  /// Decodes one unit into the picture FillFrame reads, at once (one frame thread only).
+  void Decode(std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place);
+  /// Read ahead: send units, receive their pictures oldest first (false: not out yet). Then
+  /// FillFrame: range, AB and the precision flags of the picture received last, with its packet's
+  /// Zdepth blob (empty for SAME; it starts at byte `zdepth_offset` of `source`).
   void Send(std::span<const std::uint8_t> access_unit, const H26xUnitPlace& place) {
     decoder_.Send(access_unit, place);
   }
@@ -180,6 +177,9 @@ class Hl2ssRecording : public AhatRecording {
   std::uint64_t BlobBytes(std::uint32_t Packet::*size) const;  // summed over the frames
   void ReadTail(const Packet& packet, std::uint64_t cursor, AhatFrame& frame) const;
   AhatFrame ReadVideoFrame(std::size_t index) const;
+  // Frame `index` from the picture `video` received last: its Zdepth blob, the invalid range
+  // zeroed, the packet's tail.
+  AhatFrame VideoFrameOf(std::size_t index, const Hl2ssVideoDecoder& video) const;
 
   std::filesystem::path path_;
   std::optional<RandomAccessFile> file_;

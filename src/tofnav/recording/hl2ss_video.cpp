@@ -8,11 +8,9 @@ namespace tofnav {
 Hl2ssVideoDecoder::Hl2ssVideoDecoder(const Hl2ssAhatConfig& config, int frame_threads)
     : profile_z_(config.profile_z), decoder_(Hl2ssVideoCodec(config.profile_ab), frame_threads) {}
 
-void Hl2ssVideoDecoder::Decode(std::span<const std::uint8_t> zdepth, std::uint64_t zdepth_offset,
-                               std::span<const std::uint8_t> access_unit,
-                               const H26xUnitPlace& place, AhatFrame& frame) {
+void Hl2ssVideoDecoder::Decode(std::span<const std::uint8_t> access_unit,
+                               const H26xUnitPlace& place) {
   decoder_.Decode(access_unit, place, picture_);
-  FillFrame(zdepth, zdepth_offset, place.source, frame);
 }
 
 void Hl2ssVideoDecoder::FillFrame(std::span<const std::uint8_t> zdepth, std::uint64_t zdepth_offset,

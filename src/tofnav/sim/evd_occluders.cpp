@@ -33,14 +33,6 @@ Eigen::Quaterniond AlongX(const Eigen::Vector3d& x_axis) {
   return RotationBetween(Eigen::Vector3d::UnitX(), x_axis.normalized());
 }
 
-const Tool& NamedTool(const Scenario& s, const char* name) {
-  for (const Tool& t : s.scene.tools) {
-    if (t.name == name) return t;
-  }
-  Require(false, std::string("AddEvdOccluders: no tool '") + name + "'");
-  return s.scene.tools.front();
-}
-
 // `v` without its component along unit `n`, normalised.
 Eigen::Vector3d Across(const Eigen::Vector3d& v, const Eigen::Vector3d& n) {
   return (v - v.dot(n) * n).normalized();
@@ -51,6 +43,12 @@ int ToolIndex(const Scenario& s, const char* name) {
     if (s.scene.tools[t].name == name) return static_cast<int>(t);
   }
   return -1;
+}
+
+const Tool& NamedTool(const Scenario& s, const char* name) {
+  const int t = ToolIndex(s, name);
+  Require(t >= 0, std::string("AddEvdOccluders: no tool '") + name + "'");
+  return s.scene.tools[static_cast<std::size_t>(t)];
 }
 
 // Lifts the keyframes of `mount`'s pass (slots first..last) along `up` by the least lift (to 0.25
