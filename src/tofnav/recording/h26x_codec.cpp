@@ -71,6 +71,9 @@ bool H26xIsKeyFrame(H26xCodec codec, std::span<const std::uint8_t> access_unit) 
 // Decoder
 
 struct H26xDecoder::State {
+  // Declared first, so destroyed last: freeing the context joins its frame threads, which may still
+  // log into it (LeakSanitizer caught a line written into a destroyed log, session 62's CI).
+  DecoderLog log;
   ContextPtr context;
   FramePtr frame{av_frame_alloc()};
   PacketPtr packet{av_packet_alloc()};
@@ -81,7 +84,6 @@ struct H26xDecoder::State {
   };
   std::deque<Unit> in_flight;  // sent units whose pictures have not come out, oldest first
   std::int64_t next_pts = 0;
-  DecoderLog log;
 
   // The library's last error line since the last call, as " (libavcodec: ...)", or "".
   std::string TakeLibraryError() {

@@ -62,6 +62,10 @@ TEST(SmoothPhysicalSkin, TakesOutAnIsoSurfacesNoiseWithoutShrinking) {
 }
 
 TEST(SmoothPhysicalSkin, LeavesAShapeBeyondTheNoiseToTheCap) {
+#ifdef TOFNAV_SANITIZED
+  GTEST_SKIP() << "two smoothings of a 1.3 mm sphere take 4 minutes under the sanitizers (CI "
+                  "session 62); the -Werror pass runs it";
+#endif
   TriangleMesh bumped = Sphere();
   const Eigen::Vector3d top = Eigen::Vector3d(1.0, 1.0, 0.2).normalized() * kRadiusMm;
   for (Eigen::Vector3d& v : bumped.vertices) {  // a 3 mm ridge 4 mm wide: anatomy, not noise
