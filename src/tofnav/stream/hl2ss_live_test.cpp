@@ -17,6 +17,10 @@ namespace tofnav {
 namespace {
 
 constexpr int kFrames = 4;
+// How long a client waits for data: the replay server encodes some profiles on the fly, and under
+// the sanitizers on a loaded 2-core machine one H.265 frame took over the client's default 5 s
+// (session 63). No test here is about timing.
+constexpr double kWaitS = 60.0;
 
 struct Case : testing::Hl2ssTestRecording {
   explicit Case(Hl2ssDepthProfile profile) : Hl2ssTestRecording("hl2ss_live", profile, kFrames) {}
@@ -52,10 +56,10 @@ TEST(Hl2ssLive, RawStreamAndMode2CalibrationMatchTheFiles) {
   const Hl2ssEndpoint endpoint{"127.0.0.1", server.port()};
   const AhatCalibration calibration = DownloadHl2ssCalibration(endpoint);
   EXPECT_EQ(EncodeHl2ssMode2(calibration), ReadHl2ssCalibrationAsMode2(c.dir.path()));
-  Hl2ssAhatClient client(endpoint, Config(Hl2ssDepthProfile::kSame));
+  Hl2ssAhatClient client(endpoint, Config(Hl2ssDepthProfile::kSame), kWaitS);
   ExpectSameFrames(client, Hl2ssRecording(c.recording), true);
   // Mode 0 from a mode-1 recording: the same frames without poses.
-  Hl2ssAhatClient no_poses(endpoint, Config(Hl2ssDepthProfile::kSame, 0));
+  Hl2ssAhatClient no_poses(endpoint, Config(Hl2ssDepthProfile::kSame, 0), kWaitS);
   ExpectSameFrames(no_poses, Hl2ssRecording(c.recording), false);
   EXPECT_EQ(server.stats().streams, 2u);
   EXPECT_EQ(server.stats().calibrations_sent, 1u);
@@ -65,10 +69,10 @@ TEST(Hl2ssLive, ZdepthStream) {
   const Case c(Hl2ssDepthProfile::kZdepth);
   Hl2ssReplayServer server = c.Serve();
   const Hl2ssEndpoint endpoint{"127.0.0.1", server.port()};
-  Hl2ssAhatClient client(endpoint, Config(Hl2ssDepthProfile::kZdepth));
+  Hl2ssAhatClient client(endpoint, Config(Hl2ssDepthProfile::kZdepth), kWaitS);
   ExpectSameFrames(client, Hl2ssRecording(c.recording), true);
   // SAME + RAW from a ZDEPTH + RAW recording: encoded on the fly, the same (decoded) frames.
-  Hl2ssAhatClient same(endpoint, Config(Hl2ssDepthProfile::kSame));
+  Hl2ssAhatClient same(endpoint, Config(Hl2ssDepthProfile::kSame), kWaitS);
   ExpectSameFrames(same, Hl2ssRecording(c.recording), true);
   EXPECT_EQ(server.stats().refused, 0u);
 }
@@ -81,7 +85,7 @@ TEST(Hl2ssLive, ARawRecordingIsServedInTheH265ProfileTheClientAsksFor) {
   config.profile_ab = Hl2ssVideoProfile::kH265Main;
   config.bitrate_bps = Hl2ssDefaultAhatBitrate(config.profile_z, config.profile_ab);
   config.encoder_options = Hl2ssDefaultEncoderOptions(config.profile_ab);
-  Hl2ssAhatClient client(endpoint, config);
+  Hl2ssAhatClient client(endpoint, config, kWaitS);
   const Hl2ssRecording recording(c.recording);
   for (int i = 0; i < kFrames; ++i) {
     const std::optional<AhatFrame> got = client.Next();
@@ -106,7 +110,7 @@ TEST(Hl2ssLive, AnH26xRecordingRefusesAnotherProfile) {
   writer.Close();
   WriteHl2ssCalibration(dir.path(), MakeSyntheticAhatCalibration());
   Hl2ssReplayServer server(path, dir.path(), {.port = 0, .realtime = false});
-  Hl2ssAhatClient wrong({"127.0.0.1", server.port()}, Config(Hl2ssDepthProfile::kZdepth));
+  Hl2ssAhatClient wrong({"127.0.0.1", server.port()}, Config(Hl2ssDepthProfile::kZdepth), kWaitS);
   EXPECT_FALSE(wrong.Next());  // RAW asked of an H.265 recording: not re-encoded, closed
   EXPECT_EQ(server.stats().refused, 1u);
 }
@@ -136,7 +140,7 @@ TEST(Hl2ssLive, AnUndecodableUnitIsADroppedFrameNeverAStaleOne) {
   Hl2ssReplayServer server(path, dir.path(), {.port = 0, .realtime = false});
   Hl2ssAhatConfig config = Config(Hl2ssDepthProfile::kZdepth);
   config.profile_ab = Hl2ssVideoProfile::kH265Main;
-  Hl2ssAhatClient client({"127.0.0.1", server.port()}, config);
+  Hl2ssAhatClient client({"127.0.0.1", server.port()}, config, kWaitS);
   std::vector<std::uint64_t> ticks;
   while (const std::optional<AhatFrame> frame = client.Next()) ticks.push_back(frame->host_ticks);
   EXPECT_EQ(ticks, (std::vector<std::uint64_t>{testing::Hl2ssTestFrame(0).host_ticks,
